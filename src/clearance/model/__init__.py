@@ -1,0 +1,50 @@
+"""Describe: bodies, markers, joints, drivers, forces, time functions, the Mechanism."""
+
+from clearance.model.bodies import GROUND, Body, Marker, triad_from_axis
+from clearance.model.drivers import (
+    DistanceDriver,
+    OrientationDriver,
+    PositionDriver,
+    PrismaticDriver,
+)
+from clearance.model.errors import KinematicsError, ModelError
+from clearance.model.forces import PointForce, SpringDamper, Torque
+from clearance.model.functions import Constant, TimeFunction
+from clearance.model.joints import (
+    Cylindrical,
+    Fixed,
+    Joint,
+    JointType,
+    Prismatic,
+    Revolute,
+    Spherical,
+    Universal,
+)
+from clearance.model.mechanism import Mechanism
+
+__all__ = [
+    "GROUND",
+    "Body",
+    "Marker",
+    "triad_from_axis",
+    "DistanceDriver",
+    "OrientationDriver",
+    "PositionDriver",
+    "PrismaticDriver",
+    "KinematicsError",
+    "ModelError",
+    "PointForce",
+    "SpringDamper",
+    "Torque",
+    "Constant",
+    "TimeFunction",
+    "Cylindrical",
+    "Fixed",
+    "Joint",
+    "JointType",
+    "Prismatic",
+    "Revolute",
+    "Spherical",
+    "Universal",
+    "Mechanism",
+]
