@@ -1,0 +1,413 @@
+"""Compile: `Mechanism -> Compiled` (frozen arrays + index maps), never mutating the input.
+
+Array names carry element prefixes (`body_mass[nbody]`, `prim_kind[nprim]`, `frc_kind[nfrc]`,
+`fn_kind[nfn]`); `Model` is the namedtuple of arrays the compiled kernel reads. State layout:
+
+    y = [q (7 nb) | v (6 nb) | work (3)]
+    q per body: r (3), p (4) Euler parameters;  v per body: r_dot (3), omega' (3) body frame
+    work: W_c (all constraint forces), W_d (drivers only), W_a (applied non-conservative)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+from clearance.constraints.primitives import AB_I, AB_J, PRIM_ROWS, SB_I, SB_J, PrimKind
+from clearance.kinematics.timefn import encode_functions
+from clearance.model.bodies import GROUND
+from clearance.model.drivers import (
+    DistanceDriver,
+    OrientationDriver,
+    PositionDriver,
+    PrismaticDriver,
+)
+from clearance.model.forces import PointForce, SpringDamper, Torque
+from clearance.model.joints import JointType
+from clearance.model.mechanism import Mechanism
+
+NWORK = 3  # W_c, W_d, W_a
+
+
+class Model(NamedTuple):
+    """Arrays read by the compiled kernel (all frozen; see module docstring)."""
+
+    nb: int
+    nrow: int
+    body_mass: np.ndarray  # (nb,) [kg]
+    body_J: np.ndarray  # (nb, 3, 3) inertia about CoM, body frame [kg m^2]
+    body_Jinv: np.ndarray  # (nb, 3, 3)
+    gravity: np.ndarray  # (3,) [m/s^2]
+    prim_kind: np.ndarray  # (nprim,) PrimKind
+    prim_bi: np.ndarray  # (nprim,) body index, -1 = ground
+    prim_bj: np.ndarray
+    prim_row: np.ndarray  # (nprim,) first row
+    prim_fn: np.ndarray  # (nprim,) time function index or -1
+    prim_v: np.ndarray  # (nprim, 4, 3) sb_i, sb_j, ab_i, ab_j
+    prim_ix: np.ndarray  # (nprim, 8) int parameters (orientation driver)
+    row_bi: np.ndarray  # (nrow,) body of J columns 0:6
+    row_bj: np.ndarray  # (nrow,) body of J columns 6:12
+    row_drv: np.ndarray  # (nrow,) 1 if the row belongs to a driver
+    row_pos: np.ndarray  # (nrow,) position of row r in the Schur factor order
+    brow_ptr: np.ndarray  # (nb+1,) rows touching each body: CSR pointers
+    brow_idx: np.ndarray  # row indices
+    brow_slot: np.ndarray  # 0: body is i of the row (cols 0:6), 1: body is j (cols 6:12)
+    frc_kind: np.ndarray  # (nfrc,) ForceType
+    frc_bi: np.ndarray  # (nfrc,) body of marker i (or the marker for point force/torque)
+    frc_bj: np.ndarray  # (nfrc,) body of marker j (spring-damper) else -1
+    frc_v: np.ndarray  # (nfrc, 3, 3) sb_i, sb_j, direction (body frame if frc_par[3] == 1)
+    frc_par: np.ndarray  # (nfrc, 4) stiffness, damping, free length, frame (0 world, 1 body)
+    frc_fn: np.ndarray  # (nfrc,) time function index
+    fn_kind: np.ndarray
+    fn_ptr: np.ndarray
+    fn_data: np.ndarray
+
+
+@dataclass(frozen=True)
+class Block:
+    """A named slice of the constraint rows (one joint or driver)."""
+
+    name: str
+    kind: str
+    row0: int
+    nrows: int
+    body_i: str
+    body_j: str
+
+
+@dataclass(frozen=True)
+class Compiled:
+    """A compiled mechanism: kernel arrays plus names and index maps."""
+
+    mechanism: Mechanism
+    model: Model
+    body_names: tuple
+    joints: tuple  # Blocks of joint rows
+    drivers: tuple  # Blocks of driver rows
+    y0: np.ndarray = field(repr=False)
+
+    @property
+    def nb(self) -> int:
+        return self.model.nb
+
+    @property
+    def nq(self) -> int:
+        return 7 * self.model.nb
+
+    @property
+    def nv(self) -> int:
+        return 6 * self.model.nb
+
+    @property
+    def nrow(self) -> int:
+        return self.model.nrow
+
+    @property
+    def ny(self) -> int:
+        return 13 * self.model.nb + NWORK
+
+    def q_slice(self, body: str) -> slice:
+        k = self.body_names.index(body)
+        return slice(7 * k, 7 * k + 7)
+
+    def v_slice(self, body: str) -> slice:
+        k = self.body_names.index(body)
+        return slice(6 * k, 6 * k + 6)
+
+    def rows(self, name: str) -> slice:
+        for b in self.joints + self.drivers:
+            if b.name == name:
+                return slice(b.row0, b.row0 + b.nrows)
+        raise KeyError(f"no joint or driver named {name!r}")
+
+    def describe(self) -> str:
+        """Human-readable layout of q, v, lam."""
+        nb = self.nb
+        lines = [
+            f"Compiled mechanism '{self.mechanism.name}': {nb} moving bodies, "
+            f"{self.nrow} constraint rows, {self.nv} velocity coordinates, "
+            f"DOF (structural) = {self.nv - self.nrow}",
+            f"state y ({self.ny}) = [q (0:{self.nq}) | v ({self.nq}:{self.nq + self.nv}) "
+            f"| W_c, W_d, W_a ({self.nq + self.nv}:{self.ny})]",
+            "bodies:",
+        ]
+        for k, n in enumerate(self.body_names):
+            lines.append(
+                f"  {n:<20s} q[{7 * k}:{7 * k + 3}] r, q[{7 * k + 3}:{7 * k + 7}] p; "
+                f"v[{6 * k}:{6 * k + 3}] r_dot, v[{6 * k + 3}:{6 * k + 6}] omega'"
+            )
+        lines.append("constraints (lam rows):")
+        for b in self.joints + self.drivers:
+            lines.append(
+                f"  lam[{b.row0}:{b.row0 + b.nrows}] {b.kind:<18s} {b.name} "
+                f"({b.body_i} -> {b.body_j})"
+            )
+        return "\n".join(lines)
+
+
+class _Builder:
+    def __init__(self, mech: Mechanism) -> None:
+        self.mech = mech
+        self.bidx = {n: k for k, n in enumerate(mech.bodies)}
+        self.prims: list = []  # (kind, bi, bj, fn, v(4,3), ix(8))
+        self.nrow = 0
+        self.row_drv: list = []
+        self.funcs: list = []
+
+    def body(self, name: str) -> int:
+        return -1 if name == GROUND else self.bidx[name]
+
+    def fn(self, f) -> int:
+        self.funcs.append(f)
+        return len(self.funcs) - 1
+
+    def prim(
+        self, kind, bi, bj, *, sbi=None, sbj=None, abi=None, abj=None, fn=-1, ix=None, driver=False
+    ) -> None:
+        v = np.zeros((4, 3))
+        for slot, x in ((SB_I, sbi), (SB_J, sbj), (AB_I, abi), (AB_J, abj)):
+            if x is not None:
+                v[slot] = x
+        ixa = np.zeros(8, dtype=np.int64) if ix is None else np.asarray(ix, dtype=np.int64)
+        self.prims.append((int(kind), bi, bj, self.nrow, fn, v, ixa))
+        n = PRIM_ROWS[kind]
+        self.row_drv.extend([1 if driver else 0] * n)
+        self.nrow += n
+
+    def marker(self, name: str):
+        m = self.mech.markers[name]
+        return self.body(m.body), np.array(m.position), np.array(m.orientation)
+
+
+def _joint_prims(b: _Builder, jt) -> None:
+    bi, pi, Ti = b.marker(jt.marker_i)
+    bj, pj, Tj = b.marker(jt.marker_j)
+    fi, gi, hi = Ti[:, 0], Ti[:, 1], Ti[:, 2]
+    fj, gj, hj = Tj[:, 0], Tj[:, 1], Tj[:, 2]
+    k = jt.kind
+    if k in (JointType.SPHERICAL, JointType.UNIVERSAL, JointType.REVOLUTE, JointType.FIXED):
+        b.prim(PrimKind.SPHERICAL, bi, bj, sbi=pi, sbj=pj)
+    if k == JointType.UNIVERSAL:
+        b.prim(PrimKind.DOT1, bi, bj, abi=hi, abj=hj)
+    elif k == JointType.REVOLUTE:
+        b.prim(PrimKind.DOT1, bi, bj, abi=fi, abj=hj)
+        b.prim(PrimKind.DOT1, bi, bj, abi=gi, abj=hj)
+    elif k in (JointType.CYLINDRICAL, JointType.PRISMATIC):
+        b.prim(PrimKind.DOT1, bi, bj, abi=fi, abj=hj)
+        b.prim(PrimKind.DOT1, bi, bj, abi=gi, abj=hj)
+        b.prim(PrimKind.DOT2, bi, bj, sbi=pi, sbj=pj, abi=fi)
+        b.prim(PrimKind.DOT2, bi, bj, sbi=pi, sbj=pj, abi=gi)
+        if k == JointType.PRISMATIC:
+            b.prim(PrimKind.DOT1, bi, bj, abi=fi, abj=gj)
+    elif k == JointType.FIXED:
+        b.prim(PrimKind.DOT1, bi, bj, abi=fi, abj=gj)
+        b.prim(PrimKind.DOT1, bi, bj, abi=gi, abj=hj)
+        b.prim(PrimKind.DOT1, bi, bj, abi=hi, abj=fj)
+
+
+def _driver_prims(b: _Builder, d) -> tuple[str, str]:
+    mech = b.mech
+    if isinstance(d, PrismaticDriver):
+        jt = mech.joints[d.joint]
+        bi, pi, Ti = b.marker(jt.marker_i)
+        bj, pj, _ = b.marker(jt.marker_j)
+        b.prim(
+            PrimKind.DOT2, bi, bj, sbi=pi, sbj=pj, abi=Ti[:, 2], fn=b.fn(d.function), driver=True
+        )
+        return mech.markers[jt.marker_i].body, mech.markers[jt.marker_j].body
+    if isinstance(d, DistanceDriver):
+        bi, pi, _ = b.marker(d.marker_i)
+        bj, pj, _ = b.marker(d.marker_j)
+        kind = PrimKind.DISTANCE2 if d.squared else PrimKind.DISTANCE
+        b.prim(kind, bi, bj, sbi=pi, sbj=pj, fn=b.fn(d.function), driver=True)
+        return mech.markers[d.marker_i].body, mech.markers[d.marker_j].body
+    if isinstance(d, PositionDriver):
+        bj, pj, _ = b.marker(d.marker)
+        b.prim(
+            PrimKind.DOT2,
+            -1,
+            bj,
+            sbi=np.zeros(3),
+            sbj=pj,
+            abi=np.array(d.axis),
+            fn=b.fn(d.function),
+            driver=True,
+        )
+        return GROUND, mech.markers[d.marker].body
+    if isinstance(d, OrientationDriver):
+        bj, _, Tj = b.marker(d.marker)
+        fns = [b.fn(a) for a in d.angles]
+        ax = list(d.axes)
+        # full: f.R ey, g.R ez, h.R ex (fixed-joint triple, c.3); axis: h.R ex, h.R ey
+        pairs = [(0, 1), (1, 2), (2, 0)] if d.mode == "full" else [(2, 0), (2, 1)]
+        for col, m in pairs:
+            b.prim(PrimKind.DOT1_MOVING, -1, bj, abj=Tj[:, col], ix=[*fns, *ax, m, 0], driver=True)
+        return GROUND, mech.markers[d.marker].body
+    raise TypeError(f"unknown driver type {type(d).__name__}")
+
+
+def _force_arrays(b: _Builder):
+    mech = b.mech
+    kinds, bis, bjs, vs, pars, fns = [], [], [], [], [], []
+    for f in mech.forces.values():
+        v = np.zeros((3, 3))
+        par = np.zeros(4)
+        bj = -1
+        if isinstance(f, (PointForce, Torque)):
+            bi, pi, Ti = b.marker(f.marker)
+            direction = np.array(f.direction if isinstance(f, PointForce) else f.axis)
+            if f.frame == "marker":
+                direction = Ti @ direction  # into body components
+                par[3] = 1.0
+            v[0] = pi
+            v[2] = direction
+            fn = b.fn(f.magnitude)
+        elif isinstance(f, SpringDamper):
+            bi, pi, _ = b.marker(f.marker_i)
+            bj, pj, _ = b.marker(f.marker_j)
+            v[0], v[1] = pi, pj
+            par[:3] = (f.stiffness, f.damping, f.free_length)
+            fn = b.fn(f.actuator)
+        else:  # pragma: no cover - Mechanism.add rejects other types
+            raise TypeError(type(f).__name__)
+        kinds.append(int(f.kind))
+        bis.append(bi)
+        bjs.append(bj)
+        vs.append(v)
+        pars.append(par)
+        fns.append(fn)
+    n = len(kinds)
+    return (
+        np.array(kinds, dtype=np.int64),
+        np.array(bis, dtype=np.int64),
+        np.array(bjs, dtype=np.int64),
+        np.array(vs).reshape(n, 3, 3),
+        np.array(pars).reshape(n, 4),
+        np.array(fns, dtype=np.int64),
+    )
+
+
+def _factor_order(nrow: int, lists: list) -> np.ndarray:
+    """Row order for the envelope Cholesky of S: reverse Cuthill-McKee on the graph of rows
+    that share a body (scipy), which keeps the envelope of S small (arrow-like for legs)."""
+    if nrow == 0:
+        return np.zeros(0, dtype=np.int64)
+    ri, ci = [], []
+    for rows in lists:
+        rs = [r for r, _ in rows]
+        for a in rs:
+            for c in rs:
+                ri.append(a)
+                ci.append(c)
+    g = sp.csr_matrix((np.ones(len(ri)), (ri, ci)), shape=(nrow, nrow))
+    order = reverse_cuthill_mckee(g, symmetric_mode=True)
+    pos = np.empty(nrow, dtype=np.int64)
+    pos[order] = np.arange(nrow)
+    return pos
+
+
+def compile_mechanism(mech: Mechanism) -> Compiled:
+    """Validate and compile a mechanism into kernel arrays (the input is not modified)."""
+    mech.validate()
+    b = _Builder(mech)
+    joints, drivers = [], []
+    for jt in mech.joints.values():
+        r0 = b.nrow
+        _joint_prims(b, jt)
+        joints.append(
+            Block(
+                jt.name,
+                type(jt).__name__,
+                r0,
+                b.nrow - r0,
+                mech.markers[jt.marker_i].body,
+                mech.markers[jt.marker_j].body,
+            )
+        )
+    for d in mech.drivers.values():
+        r0 = b.nrow
+        bi_name, bj_name = _driver_prims(b, d)
+        drivers.append(Block(d.name, type(d).__name__, r0, b.nrow - r0, bi_name, bj_name))
+    frc = _force_arrays(b)
+    nb = mech.nbody
+    npr = len(b.prims)
+    prim_kind = np.array([p[0] for p in b.prims], dtype=np.int64)
+    prim_bi = np.array([p[1] for p in b.prims], dtype=np.int64)
+    prim_bj = np.array([p[2] for p in b.prims], dtype=np.int64)
+    prim_row = np.array([p[3] for p in b.prims], dtype=np.int64)
+    prim_fn = np.array([p[4] for p in b.prims], dtype=np.int64)
+    prim_v = np.array([p[5] for p in b.prims]).reshape(npr, 4, 3)
+    prim_ix = np.array([p[6] for p in b.prims], dtype=np.int64).reshape(npr, 8)
+    row_bi = np.empty(b.nrow, dtype=np.int64)
+    row_bj = np.empty(b.nrow, dtype=np.int64)
+    for k in range(npr):
+        n = PRIM_ROWS[PrimKind(prim_kind[k])]
+        row_bi[prim_row[k] : prim_row[k] + n] = prim_bi[k]
+        row_bj[prim_row[k] : prim_row[k] + n] = prim_bj[k]
+    lists = [[] for _ in range(nb)]
+    for r in range(b.nrow):
+        if row_bi[r] >= 0:
+            lists[row_bi[r]].append((r, 0))
+        if row_bj[r] >= 0:
+            lists[row_bj[r]].append((r, 1))
+    brow_ptr = np.zeros(nb + 1, dtype=np.int64)
+    brow_ptr[1:] = np.cumsum([len(x) for x in lists])
+    flat = [e for x in lists for e in x]
+    brow_idx = np.array([e[0] for e in flat], dtype=np.int64)
+    brow_slot = np.array([e[1] for e in flat], dtype=np.int64)
+    fn_kind, fn_ptr, fn_data = encode_functions(b.funcs)
+    row_pos = _factor_order(b.nrow, lists)
+    bodies = list(mech.bodies.values())
+    body_J = np.array([bd.inertia_matrix for bd in bodies]).reshape(nb, 3, 3)
+    model = Model(
+        nb=nb,
+        nrow=b.nrow,
+        body_mass=np.array([bd.mass for bd in bodies]),
+        body_J=body_J,
+        body_Jinv=np.linalg.inv(body_J) if nb else body_J.copy(),
+        gravity=np.array(mech.gravity, dtype=float),
+        prim_kind=prim_kind,
+        prim_bi=prim_bi,
+        prim_bj=prim_bj,
+        prim_row=prim_row,
+        prim_fn=prim_fn,
+        prim_v=prim_v,
+        prim_ix=prim_ix,
+        row_bi=row_bi,
+        row_bj=row_bj,
+        row_drv=np.array(b.row_drv, dtype=np.int64),
+        row_pos=row_pos,
+        brow_ptr=brow_ptr,
+        brow_idx=brow_idx,
+        brow_slot=brow_slot,
+        frc_kind=frc[0],
+        frc_bi=frc[1],
+        frc_bj=frc[2],
+        frc_v=frc[3],
+        frc_par=frc[4],
+        frc_fn=frc[5],
+        fn_kind=fn_kind,
+        fn_ptr=fn_ptr,
+        fn_data=fn_data,
+    )
+    for a in model:
+        if isinstance(a, np.ndarray):
+            a.setflags(write=False)
+    y0 = np.zeros(13 * nb + NWORK)
+    for k, bd in enumerate(bodies):
+        y0[7 * k : 7 * k + 3] = bd.position
+        y0[7 * k + 3 : 7 * k + 7] = bd.orientation
+        y0[7 * nb + 6 * k : 7 * nb + 6 * k + 3] = bd.velocity
+        y0[7 * nb + 6 * k + 3 : 7 * nb + 6 * k + 6] = bd.angular_velocity
+    return Compiled(
+        mechanism=mech,
+        model=model,
+        body_names=tuple(mech.bodies),
+        joints=tuple(joints),
+        drivers=tuple(drivers),
+        y0=y0,
+    )

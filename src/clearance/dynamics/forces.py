@@ -1,0 +1,133 @@
+"""Applied generalised forces (physics.md d.1): gravity, gyroscopic terms, point forces,
+torques and spring-damper-actuators. Q per body = [F (world) ; n' (body frame)].
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
+from clearance.model.forces import ForceType
+
+_POINT = int(ForceType.POINT_FORCE)
+_TORQUE = int(ForceType.TORQUE)
+
+
+@njit(cache=True)
+def _add_force(Q, b, bA, F, s_w):
+    """Add world force F applied at arm s_w (world, from the CoM) to body b (skip ground)."""
+    if b < 0:
+        return
+    Q[b, 0] += F[0]
+    Q[b, 1] += F[1]
+    Q[b, 2] += F[2]
+    n = mattvec(bA[b], cross(s_w, F))
+    Q[b, 3] += n[0]
+    Q[b, 4] += n[1]
+    Q[b, 5] += n[2]
+
+
+@njit(cache=True)
+def applied_forces(model, y, bA, br, brd, bw, fval, Q):
+    """Fill Q (nb, 6); return the power of the non-conservative applied forces [W].
+
+    Gravity and spring elasticity are conservative (their energy is in V); the power
+    returned covers point forces, torques, dampers and actuators (the W_a rate).
+    """
+    nb = model.nb
+    off = 7 * nb
+    for b in range(nb):
+        m = model.body_mass[b]
+        Jb = model.body_J[b]
+        w = (y[off + 6 * b + 3], y[off + 6 * b + 4], y[off + 6 * b + 5])
+        Jw = matvec(Jb, w)
+        gyro = cross(w, Jw)
+        Q[b, 0] = m * model.gravity[0]
+        Q[b, 1] = m * model.gravity[1]
+        Q[b, 2] = m * model.gravity[2]
+        Q[b, 3] = -gyro[0]
+        Q[b, 4] = -gyro[1]
+        Q[b, 5] = -gyro[2]
+    power = 0.0
+    for k in range(model.frc_kind.shape[0]):
+        kind = model.frc_kind[k]
+        i = model.frc_bi[k]
+        mag = fval[model.frc_fn[k], 0]
+        if kind == _POINT or kind == _TORQUE:
+            u = (model.frc_v[k, 2, 0], model.frc_v[k, 2, 1], model.frc_v[k, 2, 2])
+            if model.frc_par[k, 3] > 0.5:
+                u = matvec(bA[i], u)
+            F = scale(mag, u)
+            if kind == _POINT:
+                s = matvec(bA[i], model.frc_v[k, 0])
+                _add_force(Q, i, bA, F, s)
+                vp = add(
+                    (brd[i, 0], brd[i, 1], brd[i, 2]), cross((bw[i, 0], bw[i, 1], bw[i, 2]), s)
+                )
+                power += dot(F, vp)
+            else:
+                n = mattvec(bA[i], F)
+                Q[i, 3] += n[0]
+                Q[i, 4] += n[1]
+                Q[i, 5] += n[2]
+                power += dot(F, (bw[i, 0], bw[i, 1], bw[i, 2]))
+        else:  # spring-damper-actuator
+            j = model.frc_bj[k]
+            si = matvec(bA[i], model.frc_v[k, 0])
+            sj = matvec(bA[j], model.frc_v[k, 1])
+            d = sub(
+                add((br[j, 0], br[j, 1], br[j, 2]), sj), add((br[i, 0], br[i, 1], br[i, 2]), si)
+            )
+            dd = sub(
+                add((brd[j, 0], brd[j, 1], brd[j, 2]), cross((bw[j, 0], bw[j, 1], bw[j, 2]), sj)),
+                add((brd[i, 0], brd[i, 1], brd[i, 2]), cross((bw[i, 0], bw[i, 1], bw[i, 2]), si)),
+            )
+            ln = math.sqrt(dot(d, d))
+            u = scale(1.0 / ln, d)
+            ldot = dot(u, dd)
+            k_, c_, l0 = model.frc_par[k, 0], model.frc_par[k, 1], model.frc_par[k, 2]
+            tension_nc = c_ * ldot + mag
+            tension = k_ * (ln - l0) + tension_nc
+            _add_force(Q, j, bA, scale(-tension, u), sj)
+            _add_force(Q, i, bA, scale(tension, u), si)
+            power -= tension_nc * ldot
+    return power
+
+
+@njit(cache=True)
+def potential_energy(model, y, bA, br):
+    """V = gravity + spring elastic energy [J] (ground level at z = 0)."""
+    nb = model.nb
+    V = 0.0
+    for b in range(nb):
+        V -= model.body_mass[b] * (
+            model.gravity[0] * y[7 * b]
+            + model.gravity[1] * y[7 * b + 1]
+            + model.gravity[2] * y[7 * b + 2]
+        )
+    for k in range(model.frc_kind.shape[0]):
+        if model.frc_kind[k] == _POINT or model.frc_kind[k] == _TORQUE:
+            continue
+        i = model.frc_bi[k]
+        j = model.frc_bj[k]
+        si = matvec(bA[i], model.frc_v[k, 0])
+        sj = matvec(bA[j], model.frc_v[k, 1])
+        d = sub(add((br[j, 0], br[j, 1], br[j, 2]), sj), add((br[i, 0], br[i, 1], br[i, 2]), si))
+        e = math.sqrt(dot(d, d)) - model.frc_par[k, 2]
+        V += 0.5 * model.frc_par[k, 0] * e * e
+    return V
+
+
+@njit(cache=True)
+def kinetic_energy(model, y):
+    """T = sum 1/2 m |r_dot|^2 + 1/2 omega'^T J' omega' [J]."""
+    nb = model.nb
+    off = 7 * nb
+    T = 0.0
+    for b in range(nb):
+        v = (y[off + 6 * b], y[off + 6 * b + 1], y[off + 6 * b + 2])
+        w = (y[off + 6 * b + 3], y[off + 6 * b + 4], y[off + 6 * b + 5])
+        T += 0.5 * model.body_mass[b] * dot(v, v) + 0.5 * dot(w, matvec(model.body_J[b], w))
+    return T

@@ -1,0 +1,152 @@
+"""The right-hand side y -> y_dot of the augmented equations of motion (physics.md d).
+
+Pipeline, readable top to bottom: body kinematics -> time functions -> constraint rows ->
+applied forces -> Baumgarte (the one place it is applied) -> constrained solve -> y_dot.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from clearance.constraints.primitives import eval_primitives
+from clearance.dynamics.forces import applied_forces
+from clearance.dynamics.solve import solve_constrained
+from clearance.kinematics.rotations import quat_rate, quat_to_rot
+from clearance.kinematics.timefn import eval_all
+
+
+class Work(NamedTuple):
+    """Preallocated scratch arrays of one right-hand-side evaluation (no allocation inside)."""
+
+    bA: np.ndarray  # (nb+1, 3, 3) rotation matrices, last = ground
+    br: np.ndarray  # (nb+1, 3) positions
+    brd: np.ndarray  # (nb+1, 3) velocities
+    bw: np.ndarray  # (nb+1, 3) world angular velocities
+    fval: np.ndarray  # (nfn, 3)
+    phi: np.ndarray  # (m,)
+    phit: np.ndarray
+    gam: np.ndarray
+    phid: np.ndarray
+    gB: np.ndarray
+    J: np.ndarray  # (m, 12)
+    JM: np.ndarray  # (m, 12)
+    S: np.ndarray  # (m, m)
+    first: np.ndarray  # (m,) int
+    rl: np.ndarray  # (m,)
+    lam: np.ndarray  # (m,)
+    Q: np.ndarray  # (nb, 6)
+    MiQ: np.ndarray  # (nb, 6)
+    vd: np.ndarray  # (nb, 6)
+    scal: np.ndarray  # (4,) power of applied forces, constraint power, driver power, spare
+
+
+def make_work(model) -> Work:
+    nb, m = model.nb, model.nrow
+    bA = np.zeros((nb + 1, 3, 3))
+    bA[nb] = np.eye(3)
+    return Work(
+        bA=bA,
+        br=np.zeros((nb + 1, 3)),
+        brd=np.zeros((nb + 1, 3)),
+        bw=np.zeros((nb + 1, 3)),
+        fval=np.zeros((model.fn_kind.shape[0], 3)),
+        phi=np.zeros(m),
+        phit=np.zeros(m),
+        gam=np.zeros(m),
+        phid=np.zeros(m),
+        gB=np.zeros(m),
+        J=np.zeros((m, 12)),
+        JM=np.zeros((m, 12)),
+        S=np.zeros((m, m)),
+        first=np.zeros(m, dtype=np.int64),
+        rl=np.zeros(m),
+        lam=np.zeros(m),
+        Q=np.zeros((nb, 6)),
+        MiQ=np.zeros((nb, 6)),
+        vd=np.zeros((nb, 6)),
+        scal=np.zeros(4),
+    )
+
+
+@njit(cache=True)
+def body_states(model, y, wk):
+    """Rotation matrices, positions, velocities and world angular velocities of all bodies."""
+    nb = model.nb
+    off = 7 * nb
+    for b in range(nb):
+        q = 7 * b
+        quat_to_rot(y[q + 3], y[q + 4], y[q + 5], y[q + 6], wk.bA[b])
+        v = off + 6 * b
+        A = wk.bA[b]
+        for a in range(3):
+            wk.br[b, a] = y[q + a]
+            wk.brd[b, a] = y[v + a]
+            wk.bw[b, a] = A[a, 0] * y[v + 3] + A[a, 1] * y[v + 4] + A[a, 2] * y[v + 5]
+
+
+@njit(cache=True)
+def constraint_rows(model, t, y, wk):
+    """Kinematics of all constraint rows: phi, phi_t, gamma, J and phi_dot = J v + phi_t."""
+    body_states(model, y, wk)
+    eval_all(model.fn_kind, model.fn_ptr, model.fn_data, t, wk.fval)
+    eval_primitives(model, wk.bA, wk.br, wk.brd, wk.bw, wk.fval, wk.phi, wk.phit, wk.gam, wk.J)
+    off = 7 * model.nb
+    for r in range(model.nrow):
+        s = wk.phit[r]
+        for side in range(2):
+            b = model.row_bi[r] if side == 0 else model.row_bj[r]
+            if b >= 0:
+                for k in range(6):
+                    s += wk.J[r, 6 * side + k] * y[off + 6 * b + k]
+        wk.phid[r] = s
+
+
+@njit(cache=True)
+def rhs(t, y, model, wk, alpha, beta, solver, ydot):
+    """Write y_dot; return 0 on success, 1 if the constraint matrix is singular.
+
+    alpha, beta: Baumgarte parameters [1/s] (physics.md d.2); solver: Solver enum value.
+    """
+    nb = model.nb
+    m = model.nrow
+    constraint_rows(model, t, y, wk)
+    wk.scal[0] = applied_forces(model, y, wk.bA, wk.br, wk.brd, wk.bw, wk.fval, wk.Q)
+    # Baumgarte stabilisation: the only place it enters (physics.md d.2)
+    b2 = beta * beta
+    for r in range(m):
+        wk.gB[r] = wk.gam[r] - 2.0 * alpha * wk.phid[r] - b2 * wk.phi[r]
+    status = solve_constrained(
+        model, wk.J, wk.gB, wk.Q, solver, wk.JM, wk.S, wk.first, wk.rl, wk.lam, wk.MiQ, wk.vd
+    )
+    off = 7 * nb
+    for b in range(nb):
+        q = 7 * b
+        v = off + 6 * b
+        ydot[q] = y[v]
+        ydot[q + 1] = y[v + 1]
+        ydot[q + 2] = y[v + 2]
+        pd = quat_rate((y[q + 3], y[q + 4], y[q + 5], y[q + 6]), (y[v + 3], y[v + 4], y[v + 5]))
+        ydot[q + 3] = pd[0]
+        ydot[q + 4] = pd[1]
+        ydot[q + 5] = pd[2]
+        ydot[q + 6] = pd[3]
+        for k in range(6):
+            ydot[v + k] = wk.vd[b, k]
+    # power of the constraint forces -lam^T phi_q v (physics.md j), all rows and drivers only
+    pc = 0.0
+    pd_ = 0.0
+    for r in range(m):
+        p = -wk.lam[r] * (wk.phid[r] - wk.phit[r])
+        pc += p
+        if model.row_drv[r] == 1:
+            pd_ += p
+    wk.scal[1] = pc
+    wk.scal[2] = pd_
+    w0 = 13 * nb
+    ydot[w0] = pc
+    ydot[w0 + 1] = pd_
+    ydot[w0 + 2] = wk.scal[0]
+    return status

@@ -1,0 +1,223 @@
+"""The constrained solve of physics.md d.1/d.3, compiled.
+
+    [ M      phi_q^T ] [ v_dot ]   [ Q       ]
+    [ phi_q  0       ] [ lam   ] = [ gamma_B ]
+
+SCHUR (default): S = phi_q M^-1 phi_q^T assembled body by body from the row-block Jacobian
+(each row touches at most two bodies), factorised by an envelope Cholesky in a
+bandwidth-reducing row order chosen at compile time (reverse Cuthill-McKee); only the
+envelope is touched, so the cost follows the mechanism's sparsity, not m^3.
+DENSE: the full augmented matrix with LU (np.linalg.solve): the checked fallback.
+LSTSQ: minimum-norm multipliers from S by least squares, for redundant but consistent
+constraint sets (physics.md c.5): v_dot is unique, lam is not.
+"""
+
+from __future__ import annotations
+
+import math
+from enum import IntEnum
+
+import numpy as np
+from numba import njit
+
+
+class Solver(IntEnum):
+    SCHUR = 0
+    DENSE = 1
+    LSTSQ = 2
+
+
+@njit(cache=True)
+def _minv_blocks(model, J, JM, Q, MiQ):
+    """JM = M^-1 J^T (row blocks) and MiQ = M^-1 Q."""
+    m = model.nrow
+    for r in range(m):
+        for side in range(2):
+            b = model.row_bi[r] if side == 0 else model.row_bj[r]
+            o = 6 * side
+            if b < 0:
+                for k in range(6):
+                    JM[r, o + k] = 0.0
+                continue
+            im = 1.0 / model.body_mass[b]
+            Ji = model.body_Jinv[b]
+            JM[r, o] = im * J[r, o]
+            JM[r, o + 1] = im * J[r, o + 1]
+            JM[r, o + 2] = im * J[r, o + 2]
+            for a in range(3):
+                JM[r, o + 3 + a] = (
+                    Ji[a, 0] * J[r, o + 3] + Ji[a, 1] * J[r, o + 4] + Ji[a, 2] * J[r, o + 5]
+                )
+    for b in range(model.nb):
+        im = 1.0 / model.body_mass[b]
+        Ji = model.body_Jinv[b]
+        MiQ[b, 0] = im * Q[b, 0]
+        MiQ[b, 1] = im * Q[b, 1]
+        MiQ[b, 2] = im * Q[b, 2]
+        for a in range(3):
+            MiQ[b, 3 + a] = Ji[a, 0] * Q[b, 3] + Ji[a, 1] * Q[b, 4] + Ji[a, 2] * Q[b, 5]
+
+
+@njit(cache=True)
+def assemble_schur(model, J, JM, S):
+    """Lower triangle of S = J M^-1 J^T in factor order (row r at position row_pos[r])."""
+    m = model.nrow
+    pos = model.row_pos
+    for a in range(m):
+        for c in range(a + 1):
+            S[a, c] = 0.0
+    for b in range(model.nb):
+        p0 = model.brow_ptr[b]
+        p1 = model.brow_ptr[b + 1]
+        for a in range(p0, p1):
+            ra = model.brow_idx[a]
+            oa = 6 * model.brow_slot[a]
+            pa = pos[ra]
+            for c in range(p0, a + 1):
+                rc = model.brow_idx[c]
+                oc = 6 * model.brow_slot[c]
+                pc = pos[rc]
+                v = 0.0
+                for k in range(6):
+                    v += J[ra, oa + k] * JM[rc, oc + k]
+                if pa >= pc:
+                    S[pa, pc] += v
+                else:
+                    S[pc, pa] += v
+
+
+@njit(cache=True)
+def envelope_cholesky(S, m, first):
+    """In-place lower Cholesky of the envelope of S (first[i] = first non-zero column).
+
+    Returns False if a pivot is not positive relative to its diagonal (singular or
+    redundant constraints). Fill-in stays inside the envelope, so only it is touched.
+    """
+    for i in range(m):
+        f = i
+        for c in range(i):
+            if S[i, c] != 0.0:
+                f = c
+                break
+        first[i] = f
+    for j in range(m):
+        d0 = S[j, j]
+        s = d0
+        for k in range(first[j], j):
+            s -= S[j, k] * S[j, k]
+        if not (s > 1e-12 * abs(d0)) or d0 == 0.0:
+            return False
+        ljj = math.sqrt(s)
+        S[j, j] = ljj
+        for i in range(j + 1, m):
+            fi = first[i]
+            if fi > j:
+                continue
+            s = S[i, j]
+            k0 = fi if fi > first[j] else first[j]
+            for k in range(k0, j):
+                s -= S[i, k] * S[j, k]
+            S[i, j] = s / ljj
+    return True
+
+
+@njit(cache=True)
+def envelope_solve(L, m, first, x):
+    """Solve L L^T x = b in place (x holds b on entry)."""
+    for i in range(m):
+        s = x[i]
+        for k in range(first[i], i):
+            s -= L[i, k] * x[k]
+        x[i] = s / L[i, i]
+    for i in range(m - 1, -1, -1):
+        x[i] /= L[i, i]
+        xi = x[i]
+        for k in range(first[i], i):
+            x[k] -= L[i, k] * xi
+
+
+@njit(cache=True)
+def solve_constrained(model, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
+    """Solve the augmented system for v_dot (vd, (nb, 6)) and lam; return 0 or 1 (singular)."""
+    m = model.nrow
+    nb = model.nb
+    _minv_blocks(model, J, JM, Q, MiQ)
+    for b in range(nb):
+        for k in range(6):
+            vd[b, k] = MiQ[b, k]
+    if m == 0:
+        return 0
+    if solver == 1:
+        return _solve_dense(model, J, gB, Q, lam, vd)
+    # right-hand side J M^-1 Q - gamma_B, in factor order
+    for r in range(m):
+        s = -gB[r]
+        for side in range(2):
+            b = model.row_bi[r] if side == 0 else model.row_bj[r]
+            if b >= 0:
+                o = 6 * side
+                for k in range(6):
+                    s += J[r, o + k] * MiQ[b, k]
+        rl[model.row_pos[r]] = s
+    assemble_schur(model, J, JM, S)
+    if solver == 0:
+        if not envelope_cholesky(S, m, first):
+            return 1
+        envelope_solve(S, m, first, rl)
+    else:
+        for a in range(m):
+            for c in range(a):
+                S[c, a] = S[a, c]
+        sol = np.linalg.lstsq(S[:m, :m], rl[:m], 1e-10)[0]
+        for a in range(m):
+            rl[a] = sol[a]
+    for r in range(m):
+        lam[r] = rl[model.row_pos[r]]
+    for r in range(m):
+        lr = lam[r]
+        for side in range(2):
+            b = model.row_bi[r] if side == 0 else model.row_bj[r]
+            if b >= 0:
+                o = 6 * side
+                for k in range(6):
+                    vd[b, k] -= JM[r, o + k] * lr
+    return 0
+
+
+@njit(cache=True)
+def _solve_dense(model, J, gB, Q, lam, vd):
+    """Dense augmented LU (the fallback and validator)."""
+    nb = model.nb
+    m = model.nrow
+    nv = 6 * nb
+    n = nv + m
+    K = np.zeros((n, n))
+    rhs = np.zeros(n)
+    for b in range(nb):
+        o = 6 * b
+        for a in range(3):
+            K[o + a, o + a] = model.body_mass[b]
+            for c in range(3):
+                K[o + 3 + a, o + 3 + c] = model.body_J[b, a, c]
+        for k in range(6):
+            rhs[o + k] = Q[b, k]
+    for r in range(m):
+        for side in range(2):
+            b = model.row_bi[r] if side == 0 else model.row_bj[r]
+            if b >= 0:
+                for k in range(6):
+                    K[nv + r, 6 * b + k] += J[r, 6 * side + k]
+                    K[6 * b + k, nv + r] += J[r, 6 * side + k]
+        rhs[nv + r] = gB[r]
+    try:
+        x = np.linalg.solve(K, rhs)
+    except Exception:  # singular augmented matrix: report, never raise in the hot loop
+        return 1
+    for b in range(nb):
+        for k in range(6):
+            vd[b, k] = x[6 * b + k]
+    for r in range(m):
+        lam[r] = x[nv + r]
+    if not np.all(np.isfinite(x)):
+        return 1
+    return 0

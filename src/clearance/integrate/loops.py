@@ -1,0 +1,348 @@
+"""Integrators that own the hot loop (compiled; no Python per step).
+
+`dopri5`: adaptive Dormand-Prince 5(4), PI step-size control (Hairer & Wanner, DOPRI5
+constants), FSAL, dense output at the requested times (steps are never shortened to hit the
+output grid). `rk4`: classical fixed step, with the step fitted to the output grid. Both
+can apply mass-weighted coordinate projection (physics.md d.4) after accepted steps.
+
+Status codes (also in `Status`): 0 done, 1 singular constraint matrix, 2 step size
+underflow, 3 too many steps, 4 non-finite state.
+"""
+
+from __future__ import annotations
+
+import math
+from enum import IntEnum
+
+import numpy as np
+from numba import njit
+
+from clearance.dynamics.rhs import constraint_rows, rhs
+from clearance.dynamics.solve import solve_constrained
+from clearance.integrate.tableau import DP5_A, DP5_C, DP5_E, DP5_P
+from clearance.kinematics.rotations import quat_rotate_body
+
+
+class Status(IntEnum):
+    SUCCESS = 0
+    SINGULAR = 1
+    STEP_UNDERFLOW = 2
+    MAX_STEPS = 3
+    NONFINITE = 4
+
+
+STATUS_MESSAGE = {
+    Status.SUCCESS: "integration reached the final time",
+    Status.SINGULAR: "the constraint matrix became singular (a singular configuration, or "
+    "redundant constraints: try solver='lstsq')",
+    Status.STEP_UNDERFLOW: "step size underflow: the step needed fell below the minimum "
+    "(stiffness, a singular configuration, or an impossible motion)",
+    Status.MAX_STEPS: "the maximum number of steps was reached",
+    Status.NONFINITE: "the state became non-finite (NaN or inf)",
+}
+
+# stats layout
+ST_NFEV, ST_NACC, ST_NREJ, ST_NPROJ, ST_HMIN, ST_HMAX, ST_HLAST = 0, 1, 2, 3, 4, 5, 6
+NSTATS = 8
+
+
+@njit(cache=True)
+def project(model, wk, t, y, solver, tol, maxit):
+    """Mass-weighted projection of positions then velocities onto the constraint manifold.
+
+    Position: dx = -M^-1 J^T (J M^-1 J^T)^-1 phi (Newton iterations); velocity: the same with
+    phi_dot. Reuses the constrained solve with Q = 0. Returns the status of the solves.
+    """
+    nb = model.nb
+    m = model.nrow
+    if m == 0:
+        return 0
+    pnew = np.empty(4)
+    for _ in range(maxit):
+        constraint_rows(model, t, y, wk)
+        err = 0.0
+        for r in range(m):
+            err = max(err, abs(wk.phi[r]))
+        if err <= tol:
+            break
+        for b in range(nb):
+            for k in range(6):
+                wk.Q[b, k] = 0.0
+        for r in range(m):
+            wk.gB[r] = -wk.phi[r]
+        st = solve_constrained(
+            model, wk.J, wk.gB, wk.Q, solver, wk.JM, wk.S, wk.first, wk.rl, wk.lam, wk.MiQ, wk.vd
+        )
+        if st != 0:
+            return st
+        for b in range(nb):
+            q = 7 * b
+            for k in range(3):
+                y[q + k] += wk.vd[b, k]
+            quat_rotate_body(y[q + 3 : q + 7], wk.vd[b, 3:6], pnew)
+            nrm = math.sqrt(pnew[0] ** 2 + pnew[1] ** 2 + pnew[2] ** 2 + pnew[3] ** 2)
+            for k in range(4):
+                y[q + 3 + k] = pnew[k] / nrm
+    constraint_rows(model, t, y, wk)
+    for b in range(nb):
+        for k in range(6):
+            wk.Q[b, k] = 0.0
+    for r in range(m):
+        wk.gB[r] = -wk.phid[r]
+    st = solve_constrained(
+        model, wk.J, wk.gB, wk.Q, solver, wk.JM, wk.S, wk.first, wk.rl, wk.lam, wk.MiQ, wk.vd
+    )
+    if st != 0:
+        return st
+    off = 7 * nb
+    for b in range(nb):
+        for k in range(6):
+            y[off + 6 * b + k] += wk.vd[b, k]
+    return 0
+
+
+@njit(cache=True)
+def _err_norm(e, y, ynew, n, rtol, atol):
+    s = 0.0
+    for i in range(n):
+        sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
+        s += (e[i] / sc) ** 2
+    return math.sqrt(s / n)
+
+
+@njit(cache=True)
+def _finite(y):
+    for i in range(y.shape[0]):
+        if not np.isfinite(y[i]):
+            return False
+    return True
+
+
+@njit(cache=True)
+def dopri5(
+    model,
+    wk,
+    alpha,
+    beta,
+    solver,
+    t0,
+    y0,
+    t_out,
+    rtol,
+    atol,
+    h0,
+    hmax,
+    hmin,
+    max_steps,
+    proj_tol,
+    Y,
+    stats,
+):
+    """Integrate from (t0, y0) and write y at the times t_out into Y (n_out, ny).
+
+    proj_tol > 0 enables coordinate projection after each accepted step. Returns
+    (status, number of outputs written, last time reached).
+    """
+    ny = y0.shape[0]
+    nerr = 13 * model.nb  # the work integrals do not steer the step size
+    K = np.zeros((7, ny))
+    y = y0.copy()
+    ynew = np.empty(ny)
+    ytmp = np.empty(ny)
+    err = np.empty(ny)
+    t = t0
+    t_end = t_out[-1]
+    nout = t_out.shape[0]
+    iout = 0
+    while iout < nout and t_out[iout] <= t0:
+        Y[iout, :] = y
+        iout += 1
+    for k in range(NSTATS):
+        stats[k] = 0.0
+    stats[ST_HMIN] = np.inf
+    if proj_tol > 0.0:
+        st = project(model, wk, t, y, solver, proj_tol, 5)
+        if st != 0:
+            return 1, iout, t
+    st = rhs(t, y, model, wk, alpha, beta, solver, K[0])
+    stats[ST_NFEV] += 1
+    if st != 0:
+        return 1, iout, t
+    # initial step (Hairer & Wanner I, II.4)
+    h = h0
+    if h <= 0.0:
+        d0 = 0.0
+        d1 = 0.0
+        for i in range(nerr):
+            sc = atol + rtol * abs(y[i])
+            d0 += (y[i] / sc) ** 2
+            d1 += (K[0, i] / sc) ** 2
+        d0 = math.sqrt(d0 / nerr)
+        d1 = math.sqrt(d1 / nerr)
+        h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+        h = min(h, hmax, t_end - t0)
+        for i in range(ny):
+            ytmp[i] = y[i] + h * K[0, i]
+        rhs(t + h, ytmp, model, wk, alpha, beta, solver, K[1])
+        stats[ST_NFEV] += 1
+        d2 = 0.0
+        for i in range(nerr):
+            sc = atol + rtol * abs(y[i])
+            d2 += ((K[1, i] - K[0, i]) / sc) ** 2
+        d2 = math.sqrt(d2 / nerr) / h
+        if max(d1, d2) <= 1e-15:
+            h1 = max(1e-6, h * 1e-3)
+        else:
+            h1 = (0.01 / max(d1, d2)) ** 0.2
+        h = min(100 * h, h1, hmax, t_end - t0)
+    # PI controller constants (DOPRI5): expo1 = 0.2 - 0.75 beta_pi
+    beta_pi = 0.04
+    expo1 = 0.2 - 0.75 * beta_pi
+    safe = 0.9
+    facold = 1e-4
+    rejected = False
+    nsteps = 0
+    while t < t_end:
+        if nsteps >= max_steps:
+            return 3, iout, t
+        if h < hmin:
+            return 2, iout, t
+        if t + 1.01 * h >= t_end:
+            h = t_end - t
+        # stages 2..7
+        bad = False
+        for s in range(1, 7):
+            for i in range(ny):
+                acc = 0.0
+                for k in range(s):
+                    acc += DP5_A[s, k] * K[k, i]
+                ytmp[i] = y[i] + h * acc
+            st = rhs(t + DP5_C[s] * h, ytmp, model, wk, alpha, beta, solver, K[s])
+            stats[ST_NFEV] += 1
+            if st != 0:
+                bad = True
+                break
+        nsteps += 1
+        if not bad:
+            for i in range(ny):
+                ynew[i] = ytmp[i]  # stage 7 is evaluated at the 5th-order solution (FSAL)
+                acc = 0.0
+                for k in range(7):
+                    acc += DP5_E[k] * K[k, i]
+                err[i] = h * acc
+            en = _err_norm(err, y, ynew, nerr, rtol, atol)
+            if not np.isfinite(en):
+                bad = True
+        if bad:
+            stats[ST_NREJ] += 1
+            h *= 0.25
+            rejected = True
+            continue
+        fac11 = en**expo1
+        fac = fac11 / facold**beta_pi
+        fac = max(0.1, min(5.0, fac / safe))  # 1/fac in Hairer's notation: h/10 .. 5h
+        hnew = h / fac
+        if en <= 1.0:
+            facold = max(en, 1e-4)
+            stats[ST_NACC] += 1
+            stats[ST_HMIN] = min(stats[ST_HMIN], h)
+            stats[ST_HMAX] = max(stats[ST_HMAX], h)
+            tnew = t + h
+            # dense output for every requested time in (t, tnew]
+            while iout < nout and t_out[iout] <= tnew:
+                x = (t_out[iout] - t) / h
+                x2 = x * x
+                x3 = x2 * x
+                x4 = x3 * x
+                for i in range(ny):
+                    acc = 0.0
+                    for k in range(7):
+                        acc += K[k, i] * (
+                            DP5_P[k, 0] * x + DP5_P[k, 1] * x2 + DP5_P[k, 2] * x3 + DP5_P[k, 3] * x4
+                        )
+                    Y[iout, i] = y[i] + h * acc
+                iout += 1
+            t = tnew
+            for i in range(ny):
+                y[i] = ynew[i]
+            if not _finite(y):
+                return 4, iout, t
+            if proj_tol > 0.0:
+                st = project(model, wk, t, y, solver, proj_tol, 3)
+                stats[ST_NPROJ] += 1
+                if st != 0:
+                    return 1, iout, t
+                st = rhs(t, y, model, wk, alpha, beta, solver, K[0])
+                stats[ST_NFEV] += 1
+                if st != 0:
+                    return 1, iout, t
+            else:
+                for i in range(ny):
+                    K[0, i] = K[6, i]  # FSAL
+            if rejected:
+                hnew = min(hnew, h)
+            rejected = False
+            h = min(hnew, hmax)
+            stats[ST_HLAST] = h
+        else:
+            stats[ST_NREJ] += 1
+            h = h / min(5.0, fac11 / safe)
+            rejected = True
+    return 0, iout, t
+
+
+@njit(cache=True)
+def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, stats):
+    """Classical RK4; between consecutive output times the step is dt/ceil(dt/h) <= h."""
+    ny = y0.shape[0]
+    y = y0.copy()
+    k1 = np.empty(ny)
+    k2 = np.empty(ny)
+    k3 = np.empty(ny)
+    k4 = np.empty(ny)
+    ytmp = np.empty(ny)
+    for k in range(NSTATS):
+        stats[k] = 0.0
+    t = t0
+    nout = t_out.shape[0]
+    iout = 0
+    while iout < nout and t_out[iout] <= t0:
+        Y[iout, :] = y
+        iout += 1
+    if proj_tol > 0.0:
+        if project(model, wk, t, y, solver, proj_tol, 5) != 0:
+            return 1, iout, t
+    while iout < nout:
+        dt = t_out[iout] - t
+        n = max(1, int(math.ceil(dt / h - 1e-9)))
+        hs = dt / n
+        for _ in range(n):
+            st = rhs(t, y, model, wk, alpha, beta, solver, k1)
+            for i in range(ny):
+                ytmp[i] = y[i] + 0.5 * hs * k1[i]
+            st |= rhs(t + 0.5 * hs, ytmp, model, wk, alpha, beta, solver, k2)
+            for i in range(ny):
+                ytmp[i] = y[i] + 0.5 * hs * k2[i]
+            st |= rhs(t + 0.5 * hs, ytmp, model, wk, alpha, beta, solver, k3)
+            for i in range(ny):
+                ytmp[i] = y[i] + hs * k3[i]
+            st |= rhs(t + hs, ytmp, model, wk, alpha, beta, solver, k4)
+            stats[ST_NFEV] += 4
+            if st != 0:
+                return 1, iout, t
+            for i in range(ny):
+                y[i] += hs / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            t += hs
+            stats[ST_NACC] += 1
+            if not _finite(y):
+                return 4, iout, t
+            if proj_tol > 0.0:
+                if project(model, wk, t, y, solver, proj_tol, 3) != 0:
+                    return 1, iout, t
+                stats[ST_NPROJ] += 1
+        t = t_out[iout]
+        Y[iout, :] = y
+        iout += 1
+    stats[ST_HMIN] = h
+    stats[ST_HMAX] = h
+    return 0, iout, t

@@ -1,0 +1,304 @@
+"""`simulate`: consistent initial conditions, the compiled integrator loop, post-processing
+into a `Result`; and `scipy_rhs`, the same right-hand side for `scipy.integrate.solve_ivp`.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+
+import numpy as np
+
+from clearance.compile.compiled import NWORK, Compiled, compile_mechanism
+from clearance.dynamics.rhs import make_work, rhs
+from clearance.dynamics.solve import Solver
+from clearance.integrate.loops import (
+    NSTATS,
+    ST_HLAST,
+    ST_HMAX,
+    ST_HMIN,
+    ST_NACC,
+    ST_NFEV,
+    ST_NPROJ,
+    ST_NREJ,
+    STATUS_MESSAGE,
+    Status,
+    dopri5,
+    rk4,
+)
+from clearance.integrate.post import post_process
+from clearance.integrate.result import Result
+from clearance.kinematics.analysis import assemble, rank_check, velocity_analysis
+from clearance.model.errors import ModelError
+from clearance.model.mechanism import Mechanism
+
+METHODS = ("dopri5", "rk4")
+
+
+def _solver_code(c: Compiled, solver: str, y: np.ndarray, t: float) -> int:
+    names = {"schur": Solver.SCHUR, "dense": Solver.DENSE, "lstsq": Solver.LSTSQ}
+    if solver == "auto":
+        if c.nrow == 0:
+            return int(Solver.SCHUR)
+        rep = rank_check(c, t, y)
+        return int(Solver.LSTSQ if rep.redundant else Solver.SCHUR)
+    if solver not in names:
+        raise ModelError("simulate", "solver", solver, "allowed: 'auto', 'schur', 'dense', 'lstsq'")
+    return int(names[solver])
+
+
+def scipy_rhs(c: Compiled, *, baumgarte: tuple = (5.0, 5.0), solver: str = "schur"):
+    """f(t, y) for `scipy.integrate.solve_ivp`, calling the same compiled right-hand side."""
+    wk = make_work(c.model)
+    code = _solver_code(c, solver, c.y0, 0.0)
+    alpha, beta = (float(x) for x in baumgarte)
+    model = c.model
+
+    def f(t: float, y: np.ndarray) -> np.ndarray:
+        out = np.empty_like(y)
+        st = rhs(float(t), np.ascontiguousarray(y, dtype=float), model, wk, alpha, beta, code, out)
+        if st != 0:
+            raise FloatingPointError(STATUS_MESSAGE[Status.SINGULAR] + f" at t = {t}")
+        return out
+
+    return f
+
+
+def initial_state(
+    c: Compiled, *, t: float = 0.0, y0: np.ndarray | None = None, assemble_positions: bool = True
+) -> np.ndarray:
+    """Consistent initial state: assembled positions and projected velocities."""
+    y = np.array(c.y0 if y0 is None else y0, dtype=float)
+    if y.shape != (c.ny,):
+        raise ModelError("simulate", "y0", y.shape, f"expected a state of length {c.ny}")
+    if assemble_positions and c.nrow:
+        y = assemble(c, y, t=t)
+        y = velocity_analysis(c, y, t=t)
+    y[c.nq + c.nv :] = 0.0
+    return y
+
+
+def simulate(
+    system: Mechanism | Compiled,
+    t_end: float,
+    *,
+    t_start: float = 0.0,
+    dt_out: float | None = None,
+    t_out: np.ndarray | None = None,
+    method: str = "dopri5",
+    rtol: float = 1e-6,
+    atol: float = 1e-9,
+    first_step: float = 0.0,
+    max_step: float = math.inf,
+    min_step: float = 1e-14,
+    max_steps: int = 10_000_000,
+    step: float = 1e-3,
+    baumgarte: tuple = (5.0, 5.0),
+    solver: str = "auto",
+    projection: bool = False,
+    projection_tol: float = 1e-10,
+    y0: np.ndarray | None = None,
+    assemble_positions: bool = True,
+) -> Result:
+    """Simulate a mechanism from t_start to t_end.
+
+    Output at `t_out`, or every `dt_out` (default: 201 samples). method: "dopri5"
+    (adaptive, rtol/atol, first_step, max_step, min_step, max_steps) or "rk4" (fixed `step`).
+    baumgarte: (alpha, beta) [1/s]; solver: "auto" (Schur; least squares if the constraints
+    are redundant), "schur", "dense", "lstsq"; projection: mass-weighted coordinate
+    projection after every accepted step. The initial state is assembled and its velocities
+    made consistent unless assemble_positions=False. A failure returns the partial result
+    with status != 0 and a message.
+    """
+    c = system if isinstance(system, Compiled) else compile_mechanism(system)
+    if method not in METHODS:
+        raise ModelError("simulate", "method", method, f"allowed: {', '.join(METHODS)}")
+    for name, val, lo in (
+        ("t_end", t_end, t_start),
+        ("rtol", rtol, 0.0),
+        ("atol", atol, 0.0),
+        ("step", step, 0.0),
+    ):
+        if not (np.isfinite(val) and val > lo):
+            raise ModelError("simulate", name, val, f"expected a finite number > {lo}")
+    if t_out is None:
+        if dt_out is None:
+            t_out = np.linspace(t_start, t_end, 201)
+        else:
+            if not dt_out > 0:
+                raise ModelError("simulate", "dt_out", dt_out, "expected a number > 0")
+            n = int(math.floor((t_end - t_start) / dt_out + 1e-9))
+            t_out = t_start + dt_out * np.arange(n + 1)
+            if t_out[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):
+                t_out = np.append(t_out, t_end)
+    t_out = np.ascontiguousarray(t_out, dtype=float)
+    if t_out.ndim != 1 or t_out.size == 0 or np.any(np.diff(t_out) <= 0) or t_out[0] < t_start:
+        raise ModelError("simulate", "t_out", t_out[:5], "expected increasing times >= t_start")
+    y = initial_state(c, t=t_start, y0=y0, assemble_positions=assemble_positions)
+    code = _solver_code(c, solver, y, t_start)
+    alpha, beta = (float(x) for x in baumgarte)
+    wk = make_work(c.model)
+    Y = np.zeros((t_out.size, c.ny))
+    stats = np.zeros(NSTATS)
+    ptol = float(projection_tol) if projection else 0.0
+    wall0 = _time.perf_counter()
+    if method == "dopri5":
+        status, nout, t_reached = dopri5(
+            c.model,
+            wk,
+            alpha,
+            beta,
+            code,
+            float(t_start),
+            y,
+            t_out,
+            float(rtol),
+            float(atol),
+            float(first_step),
+            float(max_step),
+            float(min_step),
+            int(max_steps),
+            ptol,
+            Y,
+            stats,
+        )
+    else:
+        status, nout, t_reached = rk4(
+            c.model, wk, alpha, beta, code, float(t_start), y, t_out, float(step), ptol, Y, stats
+        )
+    wall = _time.perf_counter() - wall0
+    message = STATUS_MESSAGE[Status(status)]
+    if status != 0:
+        message += f" (stopped at t = {t_reached:.6g} s; {nout} of {t_out.size} samples kept)"
+    return _build_result(
+        c,
+        t_out[:nout],
+        Y[:nout],
+        wk,
+        alpha,
+        beta,
+        code,
+        stats,
+        wall,
+        int(status),
+        message,
+        dict(
+            method=method,
+            rtol=rtol,
+            atol=atol,
+            max_step=max_step,
+            step=step,
+            baumgarte=(alpha, beta),
+            solver=solver,
+            solver_used=Solver(code).name.lower(),
+            projection=projection,
+            projection_tol=projection_tol,
+        ),
+    )
+
+
+def _build_result(
+    c: Compiled, ts, Y, wk, alpha, beta, code, stats, wall, status, message, settings
+) -> Result:
+    n = ts.size
+    m = c.nrow
+    blocks = c.joints + c.drivers
+    nbk = len(blocks)
+    blk_row0 = np.array([b.row0 for b in blocks], dtype=np.int64)
+    blk_nrow = np.array([b.nrows for b in blocks], dtype=np.int64)
+    blk_side = np.array([1 if b.body_j != "ground" else 0 for b in blocks], dtype=np.int64)
+    blk_pt = np.zeros((nbk, 3))
+    mech = c.mechanism
+    for k, b in enumerate(blocks):
+        blk_pt[k] = _block_point(mech, b.name, blk_side[k])
+    VD = np.zeros((n, c.nv))
+    LAM = np.zeros((n, m))
+    PHI = np.zeros((n, m))
+    PHID = np.zeros((n, m))
+    EN = np.zeros((n, 2))
+    RF = np.zeros((n, nbk, 3))
+    RM = np.zeros((n, nbk, 3))
+    if n:
+        post_process(
+            c.model,
+            wk,
+            alpha,
+            beta,
+            code,
+            ts,
+            Y,
+            n,
+            blk_row0,
+            blk_nrow,
+            blk_side,
+            blk_pt,
+            VD,
+            LAM,
+            PHI,
+            PHID,
+            EN,
+            RF,
+            RM,
+        )
+    W = Y[:, c.nq + c.nv : c.nq + c.nv + NWORK]
+    T, V = EN[:, 0], EN[:, 1]
+    resid = (T + V - (T[0] + V[0]) - W[:, 0] - W[:, 2]) if n else np.zeros(0)
+    drv_rows, drv_names = [], []
+    for b in c.drivers:
+        for r in range(b.row0, b.row0 + b.nrows):
+            drv_rows.append(r)
+            drv_names.append(b.name)
+    energy = dict(
+        kinetic=T,
+        potential=V,
+        work_constraints=W[:, 0],
+        work_drivers=W[:, 1],
+        work_applied=W[:, 2],
+        residual=resid,
+    )
+    st = dict(
+        nfev=int(stats[ST_NFEV]),
+        naccept=int(stats[ST_NACC]),
+        nreject=int(stats[ST_NREJ]),
+        nproject=int(stats[ST_NPROJ]),
+        hmin=float(stats[ST_HMIN]),
+        hmax=float(stats[ST_HMAX]),
+        hlast=float(stats[ST_HLAST]),
+        wall_time=wall,
+    )
+    return Result(
+        compiled=c,
+        t=ts.copy(),
+        q=Y[:, : c.nq].copy(),
+        v=Y[:, c.nq : c.nq + c.nv].copy(),
+        a=VD,
+        lam=LAM,
+        phi=PHI,
+        phi_dot=PHID,
+        reaction_force=RF,
+        reaction_moment=RM,
+        reaction_body=tuple(
+            b.body_j if s else b.body_i for b, s in zip(blocks, blk_side, strict=True)
+        ),
+        blocks=tuple(b.name for b in blocks),
+        driver_force=-LAM[:, drv_rows] if drv_rows else np.zeros((n, 0)),
+        driver_names=tuple(drv_names),
+        energy=energy,
+        stats=st,
+        status=status,
+        message=message,
+        settings=settings,
+    )
+
+
+def _block_point(mech: Mechanism, name: str, side: int) -> np.ndarray:
+    """Body-frame point of the reporting body about which a block's moment is reported."""
+    el = mech.joints.get(name) or mech.drivers.get(name)
+    mi = getattr(el, "marker_i", None)
+    mj = getattr(el, "marker_j", None)
+    if mi is None and hasattr(el, "joint"):
+        jt = mech.joints[el.joint]
+        mi, mj = jt.marker_i, jt.marker_j
+    if mi is None:  # pose drivers: the driven marker
+        return np.array(mech.markers[el.marker].position)
+    return np.array(mech.markers[mj if side == 1 else mi].position)
