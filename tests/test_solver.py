@@ -1,0 +1,82 @@
+"""The constrained solve: Schur/envelope Cholesky vs dense augmented LU vs least squares,
+and the rank check that names redundant joints (physics.md c.5, d.3)."""
+
+import numpy as np
+
+import clearance as cl
+from clearance.dynamics.rhs import make_work, rhs
+
+
+def _door(redundant: bool):
+    """A door hinged to the ground by two revolute joints on one axis (redundant: 10 rows for
+    5 independent constraints) or by one."""
+    m = cl.Mechanism("door", gravity=(0, 0, -9.81))
+    m.add(cl.Body("door", 20.0, (1.5, 1.2, 0.3), position=(0.4, 0, 0.0)))
+    m.add(cl.Marker.on_axis("g1", "ground", (0, 0, 0.5), axis=(0, 0, 1)),
+          cl.Marker.on_axis("d1", "door", (-0.4, 0, 0.5), axis=(0, 0, 1)),
+          cl.Revolute("hinge_top", "g1", "d1"))
+    if redundant:
+        m.add(cl.Marker.on_axis("g2", "ground", (0, 0, -0.5), axis=(0, 0, 1)),
+              cl.Marker.on_axis("d2", "door", (-0.4, 0, -0.5), axis=(0, 0, 1)),
+              cl.Revolute("hinge_bottom", "g2", "d2"))
+    # tilt gravity so that the door swings: gravity along -x in the hinge frame
+    m.gravity = (-1.0, 0.5, -9.81)
+    return m
+
+
+def _eval(c, y, solver):
+    wk = make_work(c.model)
+    yd = np.empty_like(y)
+    st = rhs(0.3, y, c.model, wk, 5.0, 5.0, solver, yd)
+    return st, yd, wk.lam.copy()
+
+
+def test_schur_equals_dense_on_random_states():
+    from clearance.mechanisms.examples import double_pendulum
+
+    c = cl.compile_mechanism(double_pendulum())
+    rng = np.random.default_rng(0)
+    for _ in range(5):
+        y = c.y0.copy()
+        y[: c.nq] += 0.1 * rng.normal(size=c.nq)
+        y[c.nq : c.nq + c.nv] = rng.normal(size=c.nv)
+        s0, yd0, l0 = _eval(c, y, 0)
+        s1, yd1, l1 = _eval(c, y, 1)
+        assert s0 == s1 == 0
+        assert np.allclose(yd0, yd1, rtol=1e-10, atol=1e-10)
+        assert np.allclose(l0, l1, rtol=1e-10, atol=1e-10)
+
+
+def test_redundant_hinges_detected_and_simulated():
+    c1 = cl.compile_mechanism(_door(False))
+    c2 = cl.compile_mechanism(_door(True))
+    y1 = cl.assemble(c1)
+    y2 = cl.assemble(c2)
+    rep = cl.rank_check(c2, 0.0, y2)
+    assert rep.nrow == 10 and rep.rank == 5 and rep.dof == 1 and rep.redundant == 5
+    assert set(rep.involved) == {"hinge_top", "hinge_bottom"}
+    assert cl.rank_check(c1, 0.0, y1).full_rank
+    # Schur Cholesky refuses the singular S; least squares gives the unique v_dot
+    st, _, _ = _eval(c2, y2, 0)
+    assert st == 1
+    st, yd2, lam2 = _eval(c2, y2, 2)
+    _, yd1, _ = _eval(c1, y1, 0)
+    assert st == 0
+    assert np.allclose(yd2[c2.nq : c2.nq + c2.nv], yd1[c1.nq : c1.nq + c1.nv], atol=1e-9)
+    # auto picks least squares, and the redundant door moves like the single-hinge door
+    r1 = cl.simulate(c1, 1.0, rtol=1e-9, atol=1e-12)
+    r2 = cl.simulate(c2, 1.0, rtol=1e-9, atol=1e-12)
+    assert r2.success and r2.settings["solver_used"] == "lstsq"
+    assert np.max(np.abs(r1.q - r2.q)) < 1e-7
+    # total reaction (sum of both hinges) equals the single hinge reaction
+    f1 = r1.reaction("hinge_top")[0]
+    f2 = r2.reaction("hinge_top")[0] + r2.reaction("hinge_bottom")[0]
+    assert np.allclose(f1, f2, atol=1e-6 * np.max(np.abs(f1)))
+
+
+def test_singular_failure_returns_partial_result():
+    c = cl.compile_mechanism(_door(True))
+    r = cl.simulate(c, 0.5, solver="schur")
+    assert not r.success and r.status == 1
+    assert "singular" in r.message
+    assert r.t.size >= 1  # what was computed is kept
