@@ -50,14 +50,14 @@ PRIM_ROWS = {
 SB_I, SB_J, AB_I, AB_J = 0, 1, 2, 3
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def _put(J, r, k, v):
     J[r, k] = v[0]
     J[r, k + 1] = v[1]
     J[r, k + 2] = v[2]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _target_vectors(fval, ix):
     """c, c_dot, c_ddot of c(t) = R1(t1) R2(t2) R3(t3) e_m (orientation driver).
 
@@ -106,7 +106,7 @@ def _target_vectors(fval, ix):
     return c, cd, cdd
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def eval_primitives(model, bA, br, brd, bw, fval, phi, phit, gam, J):
     """Evaluate every primitive of `model` into phi, phi_t, gamma and J (row blocks).
 

@@ -15,7 +15,7 @@ _POINT = int(ForceType.POINT_FORCE)
 _TORQUE = int(ForceType.TORQUE)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _add_force(Q, b, bA, F, s_w):
     """Add world force F applied at arm s_w (world, from the CoM) to body b (skip ground)."""
     if b < 0:
@@ -29,7 +29,7 @@ def _add_force(Q, b, bA, F, s_w):
     Q[b, 5] += n[2]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def applied_forces(model, y, bA, br, brd, bw, fval, Q):
     """Fill Q (nb, 6); return the power of the non-conservative applied forces [W].
 
@@ -96,7 +96,7 @@ def applied_forces(model, y, bA, br, brd, bw, fval, Q):
     return power
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def potential_energy(model, y, bA, br):
     """V = gravity + spring elastic energy [J] (ground level at z = 0)."""
     nb = model.nb
@@ -120,7 +120,7 @@ def potential_energy(model, y, bA, br):
     return V
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def kinetic_energy(model, y):
     """T = sum 1/2 m |r_dot|^2 + 1/2 omega'^T J' omega' [J]."""
     nb = model.nb

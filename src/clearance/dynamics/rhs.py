@@ -71,7 +71,7 @@ def make_work(model) -> Work:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def body_states(model, y, wk):
     """Rotation matrices, positions, velocities and world angular velocities of all bodies."""
     nb = model.nb
@@ -87,7 +87,7 @@ def body_states(model, y, wk):
             wk.bw[b, a] = A[a, 0] * y[v + 3] + A[a, 1] * y[v + 4] + A[a, 2] * y[v + 5]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def constraint_rows(model, t, y, wk):
     """Kinematics of all constraint rows: phi, phi_t, gamma, J and phi_dot = J v + phi_t."""
     body_states(model, y, wk)
@@ -104,7 +104,7 @@ def constraint_rows(model, t, y, wk):
         wk.phid[r] = s
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(t, y, model, wk, alpha, beta, solver, ydot):
     """Write y_dot; return 0 on success, 1 if the constraint matrix is singular.
 

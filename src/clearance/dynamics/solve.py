@@ -27,7 +27,7 @@ class Solver(IntEnum):
     LSTSQ = 2
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _minv_blocks(model, J, JM, Q, MiQ):
     """JM = M^-1 J^T (row blocks) and MiQ = M^-1 Q."""
     m = model.nrow
@@ -58,7 +58,7 @@ def _minv_blocks(model, J, JM, Q, MiQ):
             MiQ[b, 3 + a] = Ji[a, 0] * Q[b, 3] + Ji[a, 1] * Q[b, 4] + Ji[a, 2] * Q[b, 5]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def assemble_schur(model, J, JM, S):
     """Lower triangle of S = J M^-1 J^T in factor order (row r at position row_pos[r])."""
     m = model.nrow
@@ -86,7 +86,7 @@ def assemble_schur(model, J, JM, S):
                     S[pc, pa] += v
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def envelope_cholesky(S, m, first):
     """In-place lower Cholesky of the envelope of S (first[i] = first non-zero column).
 
@@ -121,7 +121,7 @@ def envelope_cholesky(S, m, first):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def envelope_solve(L, m, first, x):
     """Solve L L^T x = b in place (x holds b on entry)."""
     for i in range(m):
@@ -136,7 +136,7 @@ def envelope_solve(L, m, first, x):
             x[k] -= L[i, k] * xi
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def solve_constrained(model, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
     """Solve the augmented system for v_dot (vd, (nb, 6)) and lam; return 0 or 1 (singular)."""
     m = model.nrow
@@ -184,7 +184,7 @@ def solve_constrained(model, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _solve_dense(model, J, gB, Q, lam, vd):
     """Dense augmented LU (the fallback and validator)."""
     nb = model.nb

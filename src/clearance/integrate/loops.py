@@ -46,7 +46,7 @@ ST_NFEV, ST_NACC, ST_NREJ, ST_NPROJ, ST_HMIN, ST_HMAX, ST_HLAST = 0, 1, 2, 3, 4,
 NSTATS = 8
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def project(model, wk, t, y, solver, tol, maxit):
     """Mass-weighted projection of positions then velocities onto the constraint manifold.
 
@@ -101,7 +101,7 @@ def project(model, wk, t, y, solver, tol, maxit):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _err_norm(e, y, ynew, n, rtol, atol):
     s = 0.0
     for i in range(n):
@@ -110,7 +110,7 @@ def _err_norm(e, y, ynew, n, rtol, atol):
     return math.sqrt(s / n)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _finite(y):
     for i in range(y.shape[0]):
         if not np.isfinite(y[i]):
@@ -118,7 +118,7 @@ def _finite(y):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dopri5(
     model,
     wk,
@@ -291,7 +291,7 @@ def dopri5(
     return 0, iout, t
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, stats):
     """Classical RK4; between consecutive output times the step is dt/ceil(dt/h) <= h."""
     ny = y0.shape[0]

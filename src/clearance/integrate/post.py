@@ -11,7 +11,7 @@ from clearance.dynamics.rhs import rhs
 from clearance.kinematics.rotations import cross, matvec, sub
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def post_process(
     model,
     wk,

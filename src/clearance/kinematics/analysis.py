@@ -18,7 +18,7 @@ from clearance.kinematics.rotations import quat_rotate_body
 from clearance.model.errors import KinematicsError
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dense_jacobian(model, J, out):
     """Scatter the row-block Jacobian (m, 12) into a dense (m, 6 nb) matrix."""
     out[:, :] = 0.0

@@ -11,32 +11,32 @@ import math
 from numba import njit
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def add(a, b):
     return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def sub(a, b):
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def scale(s, a):
     return (s * a[0], s * a[1], s * a[2])
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def matvec(A, v):
     """A v for a 3x3 array A."""
     return (
@@ -46,7 +46,7 @@ def matvec(A, v):
     )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def mattvec(A, v):
     """A^T v for a 3x3 array A."""
     return (
@@ -56,13 +56,13 @@ def mattvec(A, v):
     )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def ww(w, s):
     """w x (w x s): the centripetal acceleration term of physics.md c.1."""
     return cross(w, cross(w, s))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def quat_to_rot(p0, p1, p2, p3, A):
     """Write A(p/|p|) (body -> world) into the 3x3 array A (physics.md b.1)."""
     n = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2 + p3 * p3)
@@ -81,7 +81,7 @@ def quat_to_rot(p0, p1, p2, p3, A):
     A[2, 1] = 2.0 * (e2 * e3 + e0 * e1)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def quat_rate(p, w):
     """p_dot = (1/2) p (x) (0, w') = (1/2) G(p)^T w' (physics.md b.1), as a 4-tuple.
 
@@ -96,7 +96,7 @@ def quat_rate(p, w):
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def quat_rotate_body(p, dth, out):
     """out = p (x) exp(dth'/2): rotate by the body-frame rotation vector dth (b.1)."""
     a = math.sqrt(dth[0] * dth[0] + dth[1] * dth[1] + dth[2] * dth[2])
@@ -113,7 +113,7 @@ def quat_rotate_body(p, dth, out):
     out[3] = e0 * s2 + e3 * c + e1 * s1 - e2 * s0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def rot_axis_apply(axis, th, x, kind):
     """Apply factor `kind` of the elementary rotation about world axis `axis` (0, 1, 2).
 
