@@ -182,10 +182,46 @@ def pose_drivers(seed: int = 2) -> cl.Mechanism:
     return m
 
 
+def ground_as_j(seed: int = 3) -> cl.Mechanism:
+    """Every joint type with the GROUND as body j (marker_j on the ground), prismatic and
+    distance drivers ending on the ground, a spring-damper to the ground, Ramp/Tabulated
+    drive functions."""
+    rng = np.random.default_rng(seed)
+    m = cl.Mechanism("ground_as_j", gravity=(0.0, -9.81, 0.0))
+    kinds = [cl.Revolute, cl.Universal, cl.Cylindrical, cl.Prismatic, cl.Fixed, cl.Spherical]
+    for k, J in enumerate(kinds):
+        n = f"q{k}"
+        m.add(
+            cl.Body(
+                n,
+                float(rng.uniform(0.5, 3.0)),
+                _inertia(rng),
+                position=tuple(rng.standard_normal(3)),
+                orientation=_rot(rng),
+            ),
+            cl.Marker(f"{n}_m", n, tuple(0.3 * rng.standard_normal(3)), _rot(rng)),
+            cl.Marker(f"g{k}", cl.GROUND, tuple(rng.standard_normal(3)), _rot(rng)),
+            J(f"joint_{n}", f"{n}_m", f"g{k}"),
+        )
+    m.add(
+        cl.PrismaticDriver("drv_c", "joint_q2", cl.Ramp(0.1, 0.4, 0.0, 1.5)),
+        cl.PrismaticDriver(
+            "drv_p", "joint_q3", cl.Tabulated((0.0, 0.5, 1.0, 2.0), (0.2, 0.3, 0.1, 0.25))
+        ),
+        cl.Marker("q1_d", "q1", (0.2, -0.1, 0.3)),
+        cl.Marker("g_d", cl.GROUND, (1.0, 0.5, -0.5)),
+        cl.DistanceDriver("dist", "q1_d", "g_d", cl.Ramp(1.0, 1.3, 0.2, 1.8, "cycloidal")),
+        cl.Marker("q5_d", "q5", (0.1, 0.1, -0.2)),
+        cl.SpringDamper("sd", "q5_d", "g_d", stiffness=80.0, damping=2.0, free_length=0.3),
+    )
+    return m
+
+
 MECHANISMS = {
     "double_pendulum": double_pendulum,
     "all_joints": all_joints,
     "pose_drivers": pose_drivers,
+    "ground_as_j": ground_as_j,
 }
 
 

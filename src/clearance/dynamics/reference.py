@@ -41,7 +41,7 @@ from clearance.model.forces import PointForce, SpringDamper, Torque
 from clearance.model.joints import JointType
 from clearance.model.mechanism import Mechanism
 
-__all__ = ["reference_rhs"]
+__all__ = ["constraint_rows", "reference_rhs"]
 
 
 def _skew(x: np.ndarray) -> np.ndarray:
