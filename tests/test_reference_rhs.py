@@ -450,3 +450,31 @@ def test_pure_python_kernel_matches_compiled(tmp_path: Path) -> None:
         yd, lam = compiled_eval(c, t, y, (alpha, beta), solver)
         assert_close(res["ydot"][k], yd, rtol=1e-12, what=f"pure Python {solver.name} ydot")
         assert_close(res["lam"][k], lam, rtol=1e-12, what=f"pure Python {solver.name} lam")
+
+
+# ---------------------------------------------------------------- bugs found (not my files)
+@pytest.mark.xfail(
+    reason="Result.driver_force of a squared DistanceDriver is -lam, not the pushing force "
+    "-2 l lam that the DistanceDriver docstring promises (integrate/simulate.py _build_result)",
+    strict=True,
+)
+@pytest.mark.parametrize("length", [1.0, 2.0])
+def test_squared_distance_driver_reports_pushing_force(length: float) -> None:
+    """A 1 kg body hanging at rest from a distance driver: the pushing force is -m g in both
+    forms (length form: lam; squared form: the row is 2 l times stiffer in lam)."""
+    forces = {}
+    for squared in (False, True):
+        m = cl.Mechanism("hang")
+        m.add(
+            cl.Body("b", 1.0, (0.1, 0.1, 0.1), position=(0.0, 0.0, -length)),
+            cl.Marker("g", cl.GROUND),
+            cl.Marker("bm", "b"),
+            cl.DistanceDriver("dist", "g", "bm", length, squared=squared),
+        )
+        r = cl.simulate(m, 0.05)
+        forces[squared] = r.actuator_force("dist")
+        # the reference agrees on lam: the discrepancy is in the reporting only
+        _, lam_ref = reference_rhs(m, 0.0, cl.initial_state(r.compiled), alpha=5.0, beta=5.0)
+        assert np.isclose(r.lam[0, 0], lam_ref[0], rtol=1e-9)
+    assert np.allclose(forces[False], -9.81, rtol=1e-9)
+    assert np.allclose(forces[True], -9.81, rtol=1e-9)
