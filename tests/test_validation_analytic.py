@@ -400,11 +400,6 @@ def test_projection_dopri5_final_state():
         assert np.max(np.abs(r.phi)) < 1e-9, t_end
 
 
-@pytest.mark.xfail(
-    reason="DOPRI5 dense-output samples are not projected: with projection=True max|phi| at "
-    "the output grid is 8e-8 at rtol 1e-6 (the 4th-order interpolant's error), not ~tol",
-    strict=True,
-)
 def test_projection_dopri5_dense_output_samples():
     c = cl.compile_mechanism(double_pendulum())
     r = cl.simulate(c, 5.0, dt_out=0.01, rtol=1e-6, atol=1e-9, projection=True)

@@ -102,6 +102,20 @@ def project(model, wk, t, y, solver, tol, maxit):
 
 
 @njit(cache=True, error_model="numpy")
+def normalise_quaternions(model, y, k):
+    """p <- p/|p| for every body (physics.md b.2), scaling the p-rows of the derivative k by
+    the same factor: p_dot = (1/2) p (x) (0, omega') is linear in p, so (y, k) stay an exact
+    state-derivative pair (FSAL remains valid). Pass k of length 0 to skip it."""
+    for b in range(model.nb):
+        q = 7 * b + 3
+        n = math.sqrt(y[q] ** 2 + y[q + 1] ** 2 + y[q + 2] ** 2 + y[q + 3] ** 2)
+        for i in range(4):
+            y[q + i] /= n
+            if k.shape[0] > 0:
+                k[q + i] /= n
+
+
+@njit(cache=True, error_model="numpy")
 def _err_norm(e, y, ynew, n, rtol, atol):
     s = 0.0
     for i in range(n):
@@ -150,6 +164,7 @@ def dopri5(
     ynew = np.empty(ny)
     ytmp = np.empty(ny)
     err = np.empty(ny)
+    empty = np.empty(0)
     t = t0
     t_end = t_out[-1]
     nout = t_out.shape[0]
@@ -261,12 +276,20 @@ def dopri5(
                             DP5_P[k, 0] * x + DP5_P[k, 1] * x2 + DP5_P[k, 2] * x3 + DP5_P[k, 3] * x4
                         )
                     Y[iout, i] = y[i] + h * acc
+                if proj_tol > 0.0:
+                    # the interpolant is off the manifold by its own error: project samples too
+                    st = project(model, wk, t_out[iout], Y[iout], solver, proj_tol, 3)
+                    if st != 0:
+                        return 1, iout, t
+                else:
+                    normalise_quaternions(model, Y[iout], empty)
                 iout += 1
             t = tnew
             for i in range(ny):
                 y[i] = ynew[i]
             if not _finite(y):
                 return 4, iout, t
+            normalise_quaternions(model, y, K[6])
             if proj_tol > 0.0:
                 st = project(model, wk, t, y, solver, proj_tol, 3)
                 stats[ST_NPROJ] += 1
@@ -336,6 +359,7 @@ def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, stats):
             stats[ST_NACC] += 1
             if not _finite(y):
                 return 4, iout, t
+            normalise_quaternions(model, y, k4[:0])
             if proj_tol > 0.0:
                 if project(model, wk, t, y, solver, proj_tol, 3) != 0:
                     return 1, iout, t
