@@ -453,11 +453,6 @@ def test_pure_python_kernel_matches_compiled(tmp_path: Path) -> None:
 
 
 # ---------------------------------------------------------------- bugs found (not my files)
-@pytest.mark.xfail(
-    reason="Result.driver_force of a squared DistanceDriver is -lam, not the pushing force "
-    "-2 l lam that the DistanceDriver docstring promises (integrate/simulate.py _build_result)",
-    strict=True,
-)
 @pytest.mark.parametrize("length", [1.0, 2.0])
 def test_squared_distance_driver_reports_pushing_force(length: float) -> None:
     """A 1 kg body hanging at rest from a distance driver: the pushing force is -m g in both

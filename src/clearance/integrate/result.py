@@ -21,7 +21,8 @@ class Result:
     point [N m], world frame, exerted by each joint/driver (names in `blocks`) on its
     reporting body (`reaction_body`: body j of the joint, or body i when j is the ground).
     driver_force (n, ndriver_rows): actuator force/torque, F_act = -lam (positive pushes body
-    j along the driver's positive direction; see each driver's docstring).
+    j along the driver's positive direction; see each driver's docstring); for a squared
+    DistanceDriver (phi = d.d - l^2) it is -2 l lam, the same pushing force.
     energy: kinetic T, potential V (gravity + springs), work of all constraint forces W_c,
     of drivers W_d, of applied non-conservative forces W_a, and the balance residual
     T + V - (T + V)(0) - W_c - W_a [J] (physics.md j).

@@ -29,6 +29,7 @@ from clearance.integrate.loops import (
 from clearance.integrate.post import post_process
 from clearance.integrate.result import Result
 from clearance.kinematics.analysis import assemble, rank_check, velocity_analysis
+from clearance.model.drivers import DistanceDriver
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
 
@@ -50,7 +51,8 @@ def _solver_code(c: Compiled, solver: str, y: np.ndarray, t: float) -> int:
 def scipy_rhs(c: Compiled, *, baumgarte: tuple = (5.0, 5.0), solver: str = "schur"):
     """f(t, y) for `scipy.integrate.solve_ivp`, calling the same compiled right-hand side."""
     wk = make_work(c.model)
-    code = _solver_code(c, solver, c.y0, 0.0)
+    y_check = initial_state(c) if solver == "auto" else c.y0
+    code = _solver_code(c, solver, y_check, 0.0)
     alpha, beta = (float(x) for x in baumgarte)
     model = c.model
 
@@ -243,11 +245,18 @@ def _build_result(
     W = Y[:, c.nq + c.nv : c.nq + c.nv + NWORK]
     T, V = EN[:, 0], EN[:, 1]
     resid = (T + V - (T[0] + V[0]) - W[:, 0] - W[:, 2]) if n else np.zeros(0)
-    drv_rows, drv_names = [], []
+    drv_rows, drv_names, drv_scale = [], [], []
     for b in c.drivers:
+        d = mech.drivers[b.name]
+        # squared distance rows (phi = d.d - l^2) carry lam = F/(2 l): report the force
+        if isinstance(d, DistanceDriver) and d.squared:
+            sc = 2.0 * np.array([d.function(tk) for tk in ts])
+        else:
+            sc = np.ones(n)
         for r in range(b.row0, b.row0 + b.nrows):
             drv_rows.append(r)
             drv_names.append(b.name)
+            drv_scale.append(sc)
     energy = dict(
         kinetic=T,
         potential=V,
@@ -281,7 +290,9 @@ def _build_result(
             b.body_j if s else b.body_i for b, s in zip(blocks, blk_side, strict=True)
         ),
         blocks=tuple(b.name for b in blocks),
-        driver_force=-LAM[:, drv_rows] if drv_rows else np.zeros((n, 0)),
+        driver_force=(
+            -LAM[:, drv_rows] * np.column_stack(drv_scale) if drv_rows else np.zeros((n, 0))
+        ),
         driver_names=tuple(drv_names),
         energy=energy,
         stats=st,
