@@ -1,0 +1,1 @@
+"""Ball-in-socket contact: compiled normal and friction laws, the clearance-joint force."""

@@ -1,0 +1,595 @@
+"""Normal-contact and friction laws of a clearance joint, as the user describes them.
+
+Frozen, validated dataclasses (physics.md g, h). Each knows its compiled code and parameter
+layout: `encode(...) -> (int code, float64 par of length NPAR)` for
+`clearance.contact.laws` (layouts in that module's docstring). Normal laws:
+
+    normal = Flores(restitution=0.9)               # stiffness from materials (Hertz, g.1)
+    normal = Hertz(stiffness=1.33e11)              # K [N/m^1.5] given
+    normal = NonlinearStiffness(form=1)            # g.6 reconstruction, calibrated to Hertz
+
+    code, par = normal.encode(R_ball=0.015, R_socket=0.0153)   # materials default to STEEL
+
+Friction laws encode without geometry: `code, par = LuGre().encode()`.
+
+File boundary: strings live only here. `normal_law_from_dict({"law": "flores",
+"restitution": 0.8})` and `friction_law_from_dict({"law": "lugre", "mu_c": 0.05})` look the
+name up in NORMAL_LAWS / FRICTION_LAWS and pass the other keys as fields; unknown names or
+fields raise ModelError naming them. `law_to_dict(law)` is the inverse.
+
+Adding a law: write its pure njit function in `clearance.contact.laws` (with an enum
+member and its dispatch line, see there), then one dataclass here whose `_par` returns the
+parameter array, and one entry in NORMAL_LAWS or FRICTION_LAWS. A new member of the g.2
+dissipative family is only `class MyLaw(_Dissipative): law = NormalLaw.MY_LAW` plus its
+xi(c_r) line in `hysteresis_factor`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from clearance.contact.laws import (
+    NPAR,
+    FrictionLaw,
+    NormalLaw,
+    hertz_stiffness,
+    kelvin_voigt_damping,
+    winkler_kf,
+)
+from clearance.model.errors import ModelError
+
+# ADAMS IMPACT default stiffness 1e5 N/mm^1.5 in SI (physics.md g.4, RECALLED).
+ADAMS_IMPACT_STIFFNESS = 1e5 * 1e3**1.5  # 3.162e9 N/m^1.5
+# Reference penetration for calibrating the Winkler modulus when neither k_f nor delta_ref
+# is given (PROPOSED: the order of the Hertz delta_max of physics.md d.5, 6.2 um).
+DEFAULT_DELTA_REF = 5e-6
+
+
+def _real(
+    owner: str,
+    name: str,
+    x: object,
+    *,
+    lo: float = -math.inf,
+    lo_open: bool = True,
+    hi: float = math.inf,
+    allowed: str | None = None,
+) -> float:
+    """x as a float if it is a finite real number in (lo, hi] (or [lo, hi] with lo_open False)."""
+    msg = allowed or "expected a finite real number"
+    if isinstance(x, bool) or not isinstance(x, numbers.Real) or not math.isfinite(x):
+        raise ModelError(owner, name, x, msg)
+    v = float(x)
+    if (v <= lo if lo_open else v < lo) or v > hi:
+        raise ModelError(owner, name, x, msg)
+    return v
+
+
+def _positive(owner: str, name: str, x: object) -> float:
+    return _real(owner, name, x, lo=0.0, allowed="expected a finite number > 0")
+
+
+def _nonneg(owner: str, name: str, x: object) -> float:
+    return _real(owner, name, x, lo=0.0, lo_open=False, allowed="expected a finite number >= 0")
+
+
+def _restitution(owner: str, x: object) -> float:
+    return _real(owner, "restitution", x, lo=0.0, hi=1.0, allowed="expected 0 < restitution <= 1")
+
+
+def _set(obj: object, name: str, value: object) -> None:
+    object.__setattr__(obj, name, value)
+
+
+def _pack(*values: float) -> np.ndarray:
+    par = np.zeros(NPAR, dtype=np.float64)
+    par[: len(values)] = values
+    return par
+
+
+@dataclass(frozen=True)
+class Material:
+    """Elastic material: Young's modulus E [Pa] and Poisson's ratio nu [-]."""
+
+    E: float
+    nu: float
+
+    def __post_init__(self) -> None:
+        _set(self, "E", _positive("Material", "E", self.E))
+        _set(
+            self,
+            "nu",
+            _real("Material", "nu", self.nu, lo=-1.0, hi=0.5, allowed="expected -1 < nu <= 0.5"),
+        )
+
+
+STEEL = Material(207e9, 0.3)  # physics.md g.1
+
+
+# --------------------------------------------------------------------------- normal laws
+
+
+@dataclass(frozen=True)
+class NormalContactLaw:
+    """Base of the normal contact laws; `law` is the compiled NormalLaw code."""
+
+    law: ClassVar[NormalLaw]
+
+    def encode(
+        self,
+        *,
+        R_ball: float,
+        R_socket: float,
+        ball_material: Material = STEEL,
+        socket_material: Material = STEEL,
+        m_eff: float | None = None,
+    ) -> tuple[int, np.ndarray]:
+        """(NormalLaw code, par (NPAR,)) for a ball of radius R_ball in a socket of radius
+        R_socket [m]; materials give the Hertz stiffness when `stiffness` is None; m_eff [kg]
+        is used by KelvinVoigt when its damping comes from the restitution."""
+        who = type(self).__name__
+        rb = _positive(who, "R_ball", R_ball)
+        rs = _real(who, "R_socket", R_socket, lo=rb, allowed=f"must exceed R_ball = {rb} m")
+        return int(self.law), self._par(rb, rs, ball_material, socket_material, m_eff)
+
+    def _par(
+        self, R_ball: float, R_socket: float, ball: Material, socket: Material, m_eff: float | None
+    ) -> np.ndarray:
+        raise NotImplementedError
+
+    def _stiffness(self, R_ball: float, R_socket: float, ball: Material, socket: Material) -> float:
+        """The user's stiffness, or the internal Hertz K of physics.md g.1."""
+        k = getattr(self, "stiffness", None)
+        if k is not None:
+            return float(k)
+        for name, m in (("ball_material", ball), ("socket_material", socket)):
+            if not isinstance(m, Material):
+                raise ModelError(type(self).__name__, name, m, "expected a Material(E, nu)")
+        return hertz_stiffness(ball.E, ball.nu, socket.E, socket.nu, R_ball, R_socket)
+
+
+def _validate_power(obj: Any) -> None:
+    who = type(obj).__name__
+    if obj.stiffness is not None:
+        _set(obj, "stiffness", _positive(who, "stiffness", obj.stiffness))
+    _set(obj, "exponent", _positive(who, "exponent", obj.exponent))
+
+
+@dataclass(frozen=True)
+class Hertz(NormalContactLaw):
+    """F_N = K delta^n, no damping (g.1, RECALLED). stiffness K [N/m^n], None = from the
+    materials (internal Hertz contact); exponent n."""
+
+    stiffness: float | None = None
+    exponent: float = 1.5
+    law: ClassVar[NormalLaw] = NormalLaw.HERTZ
+
+    def __post_init__(self) -> None:
+        _validate_power(self)
+
+    def _par(self, R_ball, R_socket, ball, socket, m_eff):
+        return _pack(self._stiffness(R_ball, R_socket, ball, socket), self.exponent)
+
+
+@dataclass(frozen=True)
+class _Dissipative(NormalContactLaw):
+    """F_N = max(0, K delta^n [1 + xi(c_r) delta_dot/delta_dot_minus]) (g.2). stiffness K
+    [N/m^n] (None = internal Hertz from the materials), exponent n, restitution c_r."""
+
+    stiffness: float | None = None
+    exponent: float = 1.5
+    restitution: float = 0.9
+
+    def __post_init__(self) -> None:
+        _validate_power(self)
+        _set(self, "restitution", _restitution(type(self).__name__, self.restitution))
+
+    def _par(self, R_ball, R_socket, ball, socket, m_eff):
+        k = self._stiffness(R_ball, R_socket, ball, socket)
+        return _pack(k, self.exponent, self.restitution)
+
+
+@dataclass(frozen=True)
+class HuntCrossley(_Dissipative):
+    """Hunt & Crossley 1975: xi = 3(1 - c_r)/2 (g.2, SOURCED)."""
+
+    law: ClassVar[NormalLaw] = NormalLaw.HUNT_CROSSLEY
+
+
+@dataclass(frozen=True)
+class LankaraniNikravesh(_Dissipative):
+    """Lankarani & Nikravesh 1990: xi = 3(1 - c_r^2)/4 (g.2, SOURCED)."""
+
+    law: ClassVar[NormalLaw] = NormalLaw.LANKARANI_NIKRAVESH
+
+
+@dataclass(frozen=True)
+class Flores(_Dissipative):
+    """Flores et al. 2011: xi = 8(1 - c_r)/(5 c_r) (g.2, SOURCED; Papers A and B)."""
+
+    law: ClassVar[NormalLaw] = NormalLaw.FLORES
+
+
+@dataclass(frozen=True)
+class Gonthier(_Dissipative):
+    """Gonthier et al. 2004: xi = (1 - c_r^2)/c_r (g.2, SOURCED)."""
+
+    law: ClassVar[NormalLaw] = NormalLaw.GONTHIER
+
+
+@dataclass(frozen=True)
+class HuGuo(_Dissipative):
+    """Hu & Guo 2015: xi = 3(1 - c_r)/(2 c_r) (g.2, RECALLED; not DyS's 3(1-c_r)/(4 c_r))."""
+
+    law: ClassVar[NormalLaw] = NormalLaw.HU_GUO
+
+
+@dataclass(frozen=True)
+class HerbertMcWhannell(_Dissipative):
+    """Herbert & McWhannell 1977: xi = 6(1 - c_r)/((2 c_r - 1)^2 + 3) (g.2, SOURCED)."""
+
+    law: ClassVar[NormalLaw] = NormalLaw.HERBERT_MCWHANNELL
+
+
+@dataclass(frozen=True)
+class LeeWang(_Dissipative):
+    """Lee & Wang 1983: xi = 3(1 - c_r)/4 (g.2, SOURCED)."""
+
+    law: ClassVar[NormalLaw] = NormalLaw.LEE_WANG
+
+
+@dataclass(frozen=True)
+class ZhiyingQishao(_Dissipative):
+    """Zhiying & Qishao 2006: xi = (3/4)(1 - c_r^2) exp(2(1 - c_r)) (g.2, SOURCED)."""
+
+    law: ClassVar[NormalLaw] = NormalLaw.ZHIYING_QISHAO
+
+
+@dataclass(frozen=True)
+class KelvinVoigt(NormalContactLaw):
+    """F_N = max(0, K_l delta + D delta_dot) (g.3; for comparison only: jumps at onset).
+
+    stiffness K_l [N/m] (linear, required); damping D [N s/m], or None to derive it from
+    restitution c_r and effective_mass [kg] (None = the m_eff given to encode, i.e. the
+    reduced mass of the two bodies): D = 2 zeta sqrt(m K_l) (g.3, DERIVED).
+    """
+
+    stiffness: float
+    damping: float | None = None
+    restitution: float = 0.9
+    effective_mass: float | None = None
+    law: ClassVar[NormalLaw] = NormalLaw.KELVIN_VOIGT
+
+    def __post_init__(self) -> None:
+        who = "KelvinVoigt"
+        _set(self, "stiffness", _positive(who, "stiffness", self.stiffness))
+        if self.damping is not None:
+            _set(self, "damping", _nonneg(who, "damping", self.damping))
+        _set(self, "restitution", _restitution(who, self.restitution))
+        if self.effective_mass is not None:
+            _set(self, "effective_mass", _positive(who, "effective_mass", self.effective_mass))
+
+    def _par(self, R_ball, R_socket, ball, socket, m_eff):
+        if self.damping is not None:
+            return _pack(self.stiffness, self.damping)
+        m = self.effective_mass if self.effective_mass is not None else m_eff
+        if m is None or not (math.isfinite(m) and m > 0.0):
+            raise ModelError(
+                "KelvinVoigt",
+                "effective_mass",
+                m,
+                "give damping, or a finite effective_mass > 0 for the "
+                "restitution-based damping (physics.md g.3)",
+            )
+        return _pack(self.stiffness, kelvin_voigt_damping(self.stiffness, m, self.restitution))
+
+
+@dataclass(frozen=True)
+class Impact(NormalContactLaw):
+    """ADAMS IMPACT: F_N = max(0, K delta^e + STEP(delta, 0, 0, d, cmax) delta_dot) (g.4).
+
+    Defaults are ADAMS-like (RECALLED): stiffness 1e5 N/mm^1.5 = 3.162e9 N/m^1.5 (about 42x
+    softer than the internal Hertz K for R_b = 15 mm, c = 0.3 mm; None = internal Hertz from
+    the materials, for like-for-like comparisons), exponent e = 1.5, cmax = 10 N s/mm =
+    1e4 N s/m, penetration_depth d = 0.1 mm = 1e-4 m.
+    """
+
+    stiffness: float | None = ADAMS_IMPACT_STIFFNESS
+    exponent: float = 1.5
+    cmax: float = 1e4
+    penetration_depth: float = 1e-4
+    law: ClassVar[NormalLaw] = NormalLaw.IMPACT
+
+    def __post_init__(self) -> None:
+        _validate_power(self)
+        _set(self, "cmax", _nonneg("Impact", "cmax", self.cmax))
+        _set(
+            self,
+            "penetration_depth",
+            _positive("Impact", "penetration_depth", self.penetration_depth),
+        )
+
+    def _par(self, R_ball, R_socket, ball, socket, m_eff):
+        k = self._stiffness(R_ball, R_socket, ball, socket)
+        return _pack(k, self.exponent, self.cmax, self.penetration_depth)
+
+
+@dataclass(frozen=True)
+class NonlinearStiffness(NormalContactLaw):
+    """Winkler-foundation law of the conformal ball in socket (g.6, DERIVED reconstruction
+    of Paper A; both forms use the Flores hysteresis factor).
+
+    form 1 (PROPOSED default): F_N = F_el(delta) [1 + xi ...];
+    form 2 ("stiffness swap", not homogeneous): F_N = K_n(delta) delta^1.5 [1 + xi ...].
+    k_f: Winkler modulus [N/m^3]; None = calibrate (PROPOSED) so that the form's elastic
+    force equals stiffness * delta_ref^1.5 at delta_ref [m] (default 5e-6 m), stiffness
+    [N/m^1.5] defaulting to the internal Hertz K (see `clearance.contact.laws.winkler_kf`).
+    The foundation radius R is the ball radius (the reconstruction is O(c/R) anyway).
+    """
+
+    form: int = 1
+    restitution: float = 0.9
+    k_f: float | None = None
+    delta_ref: float | None = None
+    stiffness: float | None = None
+
+    def __post_init__(self) -> None:
+        who = "NonlinearStiffness"
+        if isinstance(self.form, bool) or self.form not in (1, 2):
+            raise ModelError(who, "form", self.form, "expected 1 or 2")
+        _set(self, "form", int(self.form))
+        _set(self, "restitution", _restitution(who, self.restitution))
+        if self.k_f is not None:
+            _set(self, "k_f", _positive(who, "k_f", self.k_f))
+            for name in ("delta_ref", "stiffness"):
+                if getattr(self, name) is not None:
+                    raise ModelError(
+                        who,
+                        name,
+                        getattr(self, name),
+                        "only used to calibrate k_f; leave it None when k_f is given",
+                    )
+        for name in ("delta_ref", "stiffness"):
+            if getattr(self, name) is not None:
+                _set(self, name, _positive(who, name, getattr(self, name)))
+
+    @property
+    def law(self) -> NormalLaw:  # type: ignore[override]
+        return NormalLaw.WINKLER_FORM1 if self.form == 1 else NormalLaw.WINKLER_FORM2
+
+    def _par(self, R_ball, R_socket, ball, socket, m_eff):
+        k_f = self.k_f
+        if k_f is None:
+            k = self._stiffness(R_ball, R_socket, ball, socket)
+            d_ref = self.delta_ref if self.delta_ref is not None else DEFAULT_DELTA_REF
+            k_f = winkler_kf(k, R_ball, R_socket - R_ball, d_ref, form=self.form)
+        return _pack(k_f, R_ball, self.restitution)
+
+
+# --------------------------------------------------------------------------- friction laws
+
+
+@dataclass(frozen=True)
+class FrictionContactLaw:
+    """Base of the friction laws; `law` is the compiled FrictionLaw code."""
+
+    law: ClassVar[FrictionLaw]
+
+    def encode(self) -> tuple[int, np.ndarray]:
+        """(FrictionLaw code, par (NPAR,)) for `clearance.contact.laws.friction_force`."""
+        return int(self.law), self._par()
+
+    def _par(self) -> np.ndarray:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class NoFriction(FrictionContactLaw):
+    """Frictionless contact."""
+
+    law: ClassVar[FrictionLaw] = FrictionLaw.NONE
+
+    def _par(self):
+        return _pack()
+
+
+@dataclass(frozen=True)
+class Coulomb(FrictionContactLaw):
+    """F_T = mu c_d(|v_t|) F_N with Ambrosio's dynamic correction (h.1, RECALLED).
+
+    c_d ramps from 0 at v0 to 1 at v1 [m/s]: ramp "linear" (Flores default) or "cubic"
+    (c_d = STEP(|v_t|, v0, 0, v1, 1)). No stiction: zero friction below v0.
+    """
+
+    mu: float = 0.1
+    v0: float = 1e-4
+    v1: float = 1e-3
+    ramp: str = "linear"
+
+    @property
+    def law(self) -> FrictionLaw:  # type: ignore[override]
+        return FrictionLaw.COULOMB if self.ramp == "linear" else FrictionLaw.COULOMB_SMOOTH
+
+    def __post_init__(self) -> None:
+        _set(self, "mu", _nonneg("Coulomb", "mu", self.mu))
+        _set(self, "v0", _nonneg("Coulomb", "v0", self.v0))
+        _set(
+            self,
+            "v1",
+            _real("Coulomb", "v1", self.v1, lo=self.v0, allowed=f"must exceed v0 = {self.v0} m/s"),
+        )
+        if self.ramp not in ("linear", "cubic"):
+            raise ModelError("Coulomb", "ramp", self.ramp, "expected 'linear' or 'cubic'")
+
+    def _par(self):
+        return _pack(self.mu, self.v0, self.v1)
+
+
+@dataclass(frozen=True)
+class Threlfall(FrictionContactLaw):
+    """F_T = mu F_N (1 - exp(-3|v_t|/v0)) up to v0, mu F_N above (h.2, RECALLED, verify)."""
+
+    mu: float = 0.1
+    v0: float = 1e-3
+    law: ClassVar[FrictionLaw] = FrictionLaw.THRELFALL
+
+    def __post_init__(self) -> None:
+        _set(self, "mu", _nonneg("Threlfall", "mu", self.mu))
+        _set(self, "v0", _positive("Threlfall", "v0", self.v0))
+
+    def _par(self):
+        return _pack(self.mu, self.v0)
+
+
+@dataclass(frozen=True)
+class Stribeck(FrictionContactLaw):
+    """ADAMS-style stiction: mu(v) = STEP(v, -v_s, -1, v_s, 1) STEP(v, v_s, mu_s, v_tr, mu_d)
+    at v = |v_t| (h.3, SOURCED form; defaults PROPOSED, h.5)."""
+
+    mu_s: float = 0.15
+    mu_d: float = 0.1
+    v_s: float = 1e-3
+    v_tr: float = 1e-2
+    law: ClassVar[FrictionLaw] = FrictionLaw.STRIBECK
+
+    def __post_init__(self) -> None:
+        _set(self, "mu_s", _nonneg("Stribeck", "mu_s", self.mu_s))
+        _set(self, "mu_d", _nonneg("Stribeck", "mu_d", self.mu_d))
+        _set(self, "v_s", _positive("Stribeck", "v_s", self.v_s))
+        _set(
+            self,
+            "v_tr",
+            _real(
+                "Stribeck",
+                "v_tr",
+                self.v_tr,
+                lo=self.v_s,
+                allowed=f"must exceed v_s = {self.v_s} m/s",
+            ),
+        )
+
+    def _par(self):
+        return _pack(self.mu_s, self.mu_d, self.v_s, self.v_tr)
+
+
+@dataclass(frozen=True)
+class LuGre(FrictionContactLaw):
+    """LuGre normalised by F_N (h.4): sigma0 [1/m], sigma1 [s/m], sigma2 [s/m] (SOURCED:
+    Canudas de Wit 1995 Table I), mu_c, mu_s (PROPOSED), Stribeck speed v_s [m/s] (SOURCED).
+
+    velocity_damping True (PROPOSED default): sigma1(v) = sigma1 exp(-(v/v_d)^2), v_d [m/s]
+    (None = v_s), which removes the onset impulse of h.4; False: constant sigma1 (papers).
+    """
+
+    sigma0: float = 1e5
+    sigma1: float = 316.0
+    sigma2: float = 0.4
+    mu_c: float = 0.1
+    mu_s: float = 0.15
+    v_s: float = 1e-3
+    velocity_damping: bool = True
+    v_d: float | None = None
+    law: ClassVar[FrictionLaw] = FrictionLaw.LUGRE
+
+    def __post_init__(self) -> None:
+        _set(self, "sigma0", _positive("LuGre", "sigma0", self.sigma0))
+        for name in ("sigma1", "sigma2"):
+            _set(self, name, _nonneg("LuGre", name, getattr(self, name)))
+        # g(v) >= min(mu_c, mu_s) divides z_dot: both must be > 0
+        for name in ("mu_c", "mu_s", "v_s"):
+            _set(self, name, _positive("LuGre", name, getattr(self, name)))
+        if not isinstance(self.velocity_damping, bool):
+            raise ModelError(
+                "LuGre", "velocity_damping", self.velocity_damping, "expected True or False"
+            )
+        if self.v_d is not None:
+            _set(self, "v_d", _positive("LuGre", "v_d", self.v_d))
+
+    def _par(self):
+        v_d = self.v_s if self.v_d is None else self.v_d
+        return _pack(
+            self.sigma0,
+            self.sigma1,
+            self.sigma2,
+            self.mu_c,
+            self.mu_s,
+            self.v_s,
+            v_d,
+            1.0 if self.velocity_damping else 0.0,
+        )
+
+
+# --------------------------------------------------------------------------- file boundary
+
+NORMAL_LAWS: dict[str, type[NormalContactLaw]] = {
+    "hertz": Hertz,
+    "kelvin_voigt": KelvinVoigt,
+    "hunt_crossley": HuntCrossley,
+    "lankarani_nikravesh": LankaraniNikravesh,
+    "flores": Flores,
+    "gonthier": Gonthier,
+    "hu_guo": HuGuo,
+    "herbert_mcwhannell": HerbertMcWhannell,
+    "lee_wang": LeeWang,
+    "zhiying_qishao": ZhiyingQishao,
+    "impact": Impact,
+    "nonlinear_stiffness": NonlinearStiffness,
+}
+
+FRICTION_LAWS: dict[str, type[FrictionContactLaw]] = {
+    "none": NoFriction,
+    "coulomb": Coulomb,
+    "threlfall": Threlfall,
+    "stribeck": Stribeck,
+    "lugre": LuGre,
+}
+
+
+def _from_dict(d: object, table: dict[str, type], kind: str) -> Any:
+    if not isinstance(d, dict):
+        raise ModelError(kind, "law", d, "expected a mapping with a 'law' key")
+    if "law" not in d:
+        raise ModelError(kind, "law", None, f"missing; expected one of {sorted(table)}")
+    name = d["law"]
+    cls = table.get(name) if isinstance(name, str) else None
+    if cls is None:
+        raise ModelError(kind, "law", name, f"unknown law; expected one of {sorted(table)}")
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    kwargs = {k: v for k, v in d.items() if k != "law"}
+    for key, value in kwargs.items():
+        if key not in fields:
+            raise ModelError(
+                cls.__name__, key, value, f"unknown field; allowed fields: {sorted(fields)}"
+            )
+    for fname, f in fields.items():
+        missing = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+        if missing and fname not in kwargs:
+            raise ModelError(cls.__name__, fname, None, "required field is missing")
+    return cls(**kwargs)
+
+
+def normal_law_from_dict(d: dict) -> NormalContactLaw:
+    """{"law": "flores", "restitution": 0.9, ...} -> Flores(restitution=0.9, ...)."""
+    return _from_dict(d, NORMAL_LAWS, "normal law")
+
+
+def friction_law_from_dict(d: dict) -> FrictionContactLaw:
+    """{"law": "lugre", "mu_c": 0.1, ...} -> LuGre(mu_c=0.1, ...)."""
+    return _from_dict(d, FRICTION_LAWS, "friction law")
+
+
+def law_to_dict(law: NormalContactLaw | FrictionContactLaw) -> dict:
+    """The inverse of *_law_from_dict: {"law": name, field: value, ...}."""
+    for table in (NORMAL_LAWS, FRICTION_LAWS):
+        for name, cls in table.items():
+            if type(law) is cls:
+                out = {"law": name}
+                out.update({f.name: getattr(law, f.name) for f in dataclasses.fields(law)})
+                return out
+    raise ModelError("law_to_dict", "law", law, "expected a registered contact or friction law")
