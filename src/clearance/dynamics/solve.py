@@ -165,12 +165,26 @@ def solve_constrained(model, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
             return 1
         envelope_solve(S, m, first, rl)
     else:
+        # Symmetric Jacobi scaling D S D, D = diag(S)^-1/2, before least squares: rows of
+        # very different physical scale (light links, small inertias) otherwise cost ~1e-9
+        # relative accuracy, and the rank cut rcond would act on units, not on dependence.
+        # lam serves as scratch for D (it is filled from rl afterwards).
         for a in range(m):
-            for c in range(a):
+            lam[a] = 1.0 / math.sqrt(S[a, a]) if S[a, a] > 0.0 else 0.0
+        for a in range(m):
+            for c in range(a + 1):
+                S[a, c] *= lam[a] * lam[c]
                 S[c, a] = S[a, c]
-        sol = np.linalg.lstsq(S[:m, :m], rl[:m], 1e-10)[0]
+            rl[a] *= lam[a]
+        Ss = S  # (m, m)
+        b = rl[:m].copy()
+        sol = np.linalg.lstsq(Ss, b, 1e-10)[0]
+        # one step of iterative refinement: the SVD solve is ~10x less accurate than the
+        # Cholesky one, and light bodies amplify multiplier errors in v_dot
+        res = b - Ss @ sol
+        sol += np.linalg.lstsq(Ss, res, 1e-10)[0]
         for a in range(m):
-            rl[a] = sol[a]
+            rl[a] = sol[a] * lam[a]
     for r in range(m):
         lam[r] = rl[model.row_pos[r]]
     for r in range(m):
