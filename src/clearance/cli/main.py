@@ -10,21 +10,39 @@ from pathlib import Path
 import numpy as np
 import typer
 
-app = typer.Typer(add_completion=False, no_args_is_help=True,
-                  help="Dynamics of spatial mechanisms with clearance joints.")
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Dynamics of spatial mechanisms with clearance joints.",
+)
 
 # name -> (factory "module:function", end time [s], description)
 EXAMPLES = {
-    "ups-upu": ("clearance.mechanisms.ups_upu:ups_upu_ideal", 2.0,
-                "4UPS-UPU parallel mechanism, ideal joints, 5 driven legs (11 bodies)"),
-    "pendulum": ("clearance.mechanisms.examples:spatial_pendulum", 2.0,
-                 "rod pendulum on a spherical joint"),
-    "double-pendulum": ("clearance.mechanisms.examples:double_pendulum", 2.0,
-                        "spatial double pendulum"),
-    "slider-crank": ("clearance.mechanisms.examples:slider_crank", 1.0,
-                     "slider-crank driven at constant crank speed"),
-    "andrews": ("clearance.mechanisms.andrews:andrews_squeezer", 0.03,
-                "Andrews' squeezing mechanism (IFToMM A03)"),
+    "ups-upu": (
+        "clearance.mechanisms.ups_upu:ups_upu_ideal",
+        2.0,
+        "4UPS-UPU parallel mechanism, ideal joints, 5 driven legs (11 bodies)",
+    ),
+    "pendulum": (
+        "clearance.mechanisms.examples:spatial_pendulum",
+        2.0,
+        "rod pendulum on a spherical joint",
+    ),
+    "double-pendulum": (
+        "clearance.mechanisms.examples:double_pendulum",
+        2.0,
+        "spatial double pendulum",
+    ),
+    "slider-crank": (
+        "clearance.mechanisms.examples:slider_crank",
+        1.0,
+        "slider-crank driven at constant crank speed",
+    ),
+    "andrews": (
+        "clearance.mechanisms.andrews:andrews_squeezer",
+        0.03,
+        "Andrews' squeezing mechanism (IFToMM A03)",
+    ),
 }
 
 
@@ -66,8 +84,10 @@ def run(
     wall = time.perf_counter() - t0
     typer.echo(res.summary())
     sim = res.stats["wall_time"]
-    typer.echo(f"integration {sim:.3f} s for {t_end:g} s simulated "
-               f"(real-time factor {t_end / max(sim, 1e-12):.1f}); total incl. JIT {wall:.1f} s")
+    typer.echo(
+        f"integration {sim:.3f} s for {t_end:g} s simulated "
+        f"(real-time factor {t_end / max(sim, 1e-12):.1f}); total incl. JIT {wall:.1f} s"
+    )
     if res.driver_force.size:
         peak = np.max(np.abs(res.driver_force), axis=0)
         names = ", ".join(f"{n} {p:.1f}" for n, p in zip(res.driver_names, peak, strict=True))

@@ -3,9 +3,11 @@
 Array names carry element prefixes (`body_mass[nbody]`, `prim_kind[nprim]`, `frc_kind[nfrc]`,
 `fn_kind[nfn]`); `Model` is the namedtuple of arrays the compiled kernel reads. State layout:
 
-    y = [q (7 nb) | v (6 nb) | work (3)]
+    y = [q (7 nb) | v (6 nb) | z (3 nclr) | W_c, W_d, W_a | D_n (nclr) | D_t (nclr)]
     q per body: r (3), p (4) Euler parameters;  v per body: r_dot (3), omega' (3) body frame
-    work: W_c (all constraint forces), W_d (drivers only), W_a (applied non-conservative)
+    z: LuGre bristle vector of each clearance joint (zero for other friction laws)
+    work: W_c (all constraint forces), W_d (drivers only), W_a (applied non-conservative),
+    D_n / D_t: normal-damping dissipation and friction work of each clearance joint
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from clearance.constraints.primitives import AB_I, AB_J, PRIM_ROWS, SB_I, SB_J, PrimKind
+from clearance.contact.laws import NPAR
 from clearance.kinematics.timefn import encode_functions
 from clearance.model.bodies import GROUND
 from clearance.model.drivers import (
@@ -65,6 +68,17 @@ class Model(NamedTuple):
     fn_kind: np.ndarray
     fn_ptr: np.ndarray
     fn_data: np.ndarray
+    nclr: int
+    clr_bs: np.ndarray  # (nclr,) socket body
+    clr_bb: np.ndarray  # (nclr,) ball body
+    clr_ps: np.ndarray  # (nclr, 3) socket centre, socket body frame
+    clr_pb: np.ndarray  # (nclr, 3) ball centre, ball body frame
+    clr_Ts: np.ndarray  # (nclr, 3, 3) socket marker triad (output frame of e)
+    clr_geo: np.ndarray  # (nclr, 5) R_s, R_b, c, velocity floor, onset tolerance (fraction of c)
+    clr_law: np.ndarray  # (nclr,) NormalLaw
+    clr_par: np.ndarray  # (nclr, NPAR)
+    clr_fric: np.ndarray  # (nclr,) FrictionLaw
+    clr_fpar: np.ndarray  # (nclr, NPAR)
 
 
 @dataclass(frozen=True)
@@ -89,6 +103,7 @@ class Compiled:
     joints: tuple  # Blocks of joint rows
     drivers: tuple  # Blocks of driver rows
     y0: np.ndarray = field(repr=False)
+    clearances: tuple = ()  # ClearanceInfo per clearance joint
 
     @property
     def nb(self) -> int:
@@ -107,8 +122,22 @@ class Compiled:
         return self.model.nrow
 
     @property
+    def nclr(self) -> int:
+        return self.model.nclr
+
+    @property
+    def iz(self) -> int:
+        """Start of the LuGre bristle states in y."""
+        return 13 * self.model.nb
+
+    @property
+    def iw(self) -> int:
+        """Start of the work integrals W_c, W_d, W_a, D_n..., D_t... in y."""
+        return 13 * self.model.nb + 3 * self.model.nclr
+
+    @property
     def ny(self) -> int:
-        return 13 * self.model.nb + NWORK
+        return self.iw + NWORK + 2 * self.model.nclr
 
     def q_slice(self, body: str) -> slice:
         k = self.body_names.index(body)
@@ -125,14 +154,17 @@ class Compiled:
         raise KeyError(f"no joint or driver named {name!r}")
 
     def describe(self) -> str:
-        """Human-readable layout of q, v, lam."""
+        """Human-readable layout of y (q, v, z, work integrals) and lam."""
         nb = self.nb
+        nc = self.nclr
+        iw = self.iw
         lines = [
             f"Compiled mechanism '{self.mechanism.name}': {nb} moving bodies, "
             f"{self.nrow} constraint rows, {self.nv} velocity coordinates, "
-            f"DOF (structural) = {self.nv - self.nrow}",
+            f"{nc} clearance joint(s), DOF (structural) = {self.nv - self.nrow}",
             f"state y ({self.ny}) = [q (0:{self.nq}) | v ({self.nq}:{self.nq + self.nv}) "
-            f"| W_c, W_d, W_a ({self.nq + self.nv}:{self.ny})]",
+            f"| z ({self.iz}:{iw}) | W_c, W_d, W_a ({iw}:{iw + 3}) "
+            f"| D_n ({iw + 3}:{iw + 3 + nc}) | D_t ({iw + 3 + nc}:{self.ny})]",
             "bodies:",
         ]
         for k, n in enumerate(self.body_names):
@@ -142,11 +174,34 @@ class Compiled:
             )
         lines.append("constraints (lam rows):")
         for b in self.joints + self.drivers:
-            lines.append(
-                f"  lam[{b.row0}:{b.row0 + b.nrows}] {b.kind:<18s} {b.name} "
-                f"({b.body_i} -> {b.body_j})"
-            )
+            if b.nrows:
+                lines.append(
+                    f"  lam[{b.row0}:{b.row0 + b.nrows}] {b.kind:<18s} {b.name} "
+                    f"({b.body_i} -> {b.body_j})"
+                )
+        if self.clearances:
+            lines.append("clearance joints (force elements, no rows):")
+            for k, ci in enumerate(self.clearances):
+                lines.append(
+                    f"  [{k}] {ci.name}: socket on {ci.socket_body}, ball on {ci.ball_body}, "
+                    f"c = {ci.c:.4g} m, {ci.normal}, {ci.friction}; "
+                    f"z = y[{self.iz + 3 * k}:{self.iz + 3 * k + 3}]"
+                )
         return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class ClearanceInfo:
+    """Names and key numbers of one compiled clearance joint."""
+
+    name: str
+    socket_body: str
+    ball_body: str
+    c: float
+    ball_radius: float
+    socket_radius: float
+    normal: str
+    friction: str
 
 
 class _Builder:
@@ -189,6 +244,8 @@ def _joint_prims(b: _Builder, jt) -> None:
     fi, gi, hi = Ti[:, 0], Ti[:, 1], Ti[:, 2]
     fj, gj, hj = Tj[:, 0], Tj[:, 1], Tj[:, 2]
     k = jt.kind
+    if getattr(jt, "clearance", None) is not None:
+        return  # a force element, no rows (physics.md f)
     if k in (JointType.SPHERICAL, JointType.UNIVERSAL, JointType.REVOLUTE, JointType.FIXED):
         b.prim(PrimKind.SPHERICAL, bi, bj, sbi=pi, sbj=pj)
     if k == JointType.UNIVERSAL:
@@ -291,6 +348,88 @@ def _force_arrays(b: _Builder):
     )
 
 
+def _clearance_arrays(b: _Builder) -> tuple[dict, list]:
+    """Kernel arrays of the spherical joints that have a Clearance (physics.md f)."""
+    mech = b.mech
+    rows, info = [], []
+    for jt in mech.joints.values():
+        cl = getattr(jt, "clearance", None)
+        if cl is None:
+            continue
+        mi, mj = jt.marker_i, jt.marker_j
+        ms, mb = (mi, mj) if cl.socket == "i" else (mj, mi)
+        bs, ps, Ts = b.marker(ms)
+        bb, pb, _ = b.marker(mb)
+        law, par = cl.normal.encode(
+            R_ball=cl.ball_radius,
+            R_socket=cl.socket_radius,
+            ball_material=cl.ball_material,
+            socket_material=cl.socket_material,
+            m_eff=_effective_mass(mech, ms, mb),
+        )
+        fric, fpar = cl.friction.encode()
+        rows.append(
+            (
+                bs,
+                bb,
+                ps,
+                pb,
+                Ts,
+                (cl.socket_radius, cl.ball_radius, cl.c, cl.velocity_floor, cl.onset_tolerance),
+                int(law),
+                np.asarray(par, float),
+                int(fric),
+                np.asarray(fpar, float),
+            )
+        )
+        info.append(
+            ClearanceInfo(
+                jt.name,
+                mech.markers[ms].body,
+                mech.markers[mb].body,
+                cl.c,
+                cl.ball_radius,
+                cl.socket_radius,
+                type(cl.normal).__name__,
+                type(cl.friction).__name__,
+            )
+        )
+    n = len(rows)
+    npar = NPAR
+
+    def col(i, dtype=float, shape=()):
+        return np.array([r[i] for r in rows], dtype=dtype).reshape((n, *shape))
+
+    arrays = dict(
+        nclr=n,
+        clr_bs=col(0, np.int64),
+        clr_bb=col(1, np.int64),
+        clr_ps=col(2, shape=(3,)),
+        clr_pb=col(3, shape=(3,)),
+        clr_Ts=col(4, shape=(3, 3)),
+        clr_geo=col(5, shape=(5,)),
+        clr_law=col(6, np.int64),
+        clr_par=col(7, shape=(npar,)),
+        clr_fric=col(8, np.int64),
+        clr_fpar=col(9, shape=(npar,)),
+    )
+    return arrays, info
+
+
+def _effective_mass(mech: Mechanism, ms: str, mb: str) -> float:
+    """m_s m_b / (m_s + m_b) of the two bodies (ground: infinite mass), for laws that need
+    an effective mass (Kelvin-Voigt damping from restitution, physics.md g.3)."""
+    ms_ = mech.markers[ms].body
+    mb_ = mech.markers[mb].body
+    m1 = mech.bodies[ms_].mass if ms_ != GROUND else np.inf
+    m2 = mech.bodies[mb_].mass if mb_ != GROUND else np.inf
+    if np.isinf(m1):
+        return float(m2)
+    if np.isinf(m2):
+        return float(m1)
+    return float(m1 * m2 / (m1 + m2))
+
+
 def _factor_order(nrow: int, lists: list) -> np.ndarray:
     """Row order for the envelope Cholesky of S: reverse Cuthill-McKee on the graph of rows
     that share a body (scipy), which keeps the envelope of S small (arrow-like for legs)."""
@@ -333,6 +472,7 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         bi_name, bj_name = _driver_prims(b, d)
         drivers.append(Block(d.name, type(d).__name__, r0, b.nrow - r0, bi_name, bj_name))
     frc = _force_arrays(b)
+    clr, clr_info = _clearance_arrays(b)
     nb = mech.nbody
     npr = len(b.prims)
     prim_kind = np.array([p[0] for p in b.prims], dtype=np.int64)
@@ -393,11 +533,12 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         fn_kind=fn_kind,
         fn_ptr=fn_ptr,
         fn_data=fn_data,
+        **clr,
     )
     for a in model:
         if isinstance(a, np.ndarray):
             a.setflags(write=False)
-    y0 = np.zeros(13 * nb + NWORK)
+    y0 = np.zeros(13 * nb + 5 * len(clr_info) + NWORK)
     for k, bd in enumerate(bodies):
         y0[7 * k : 7 * k + 3] = bd.position
         y0[7 * k + 3 : 7 * k + 7] = bd.orientation
@@ -410,4 +551,5 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         joints=tuple(joints),
         drivers=tuple(drivers),
         y0=y0,
+        clearances=tuple(clr_info),
     )

@@ -1,7 +1,8 @@
 """The right-hand side y -> y_dot of the augmented equations of motion (physics.md d).
 
 Pipeline, readable top to bottom: body kinematics -> time functions -> constraint rows ->
-applied forces -> Baumgarte (the one place it is applied) -> constrained solve -> y_dot.
+applied forces -> clearance-joint contact forces -> Baumgarte (the one place it is applied)
+-> constrained solve -> y_dot.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import numpy as np
 from numba import njit
 
 from clearance.constraints.primitives import eval_primitives
+from clearance.contact.joint import NCOUT, clearance_forces
 from clearance.dynamics.forces import applied_forces
 from clearance.dynamics.solve import solve_constrained
 from clearance.kinematics.rotations import quat_rate, quat_to_rot
@@ -41,6 +43,9 @@ class Work(NamedTuple):
     MiQ: np.ndarray  # (nb, 6)
     vd: np.ndarray  # (nb, 6)
     scal: np.ndarray  # (4,) power of applied forces, constraint power, driver power, spare
+    cflag: np.ndarray  # (nclr,) int: 1 while clearance joint k is in contact (discrete state)
+    cddm: np.ndarray  # (nclr,) impact velocity latched at onset [m/s] (discrete state)
+    cout: np.ndarray  # (nclr, NCOUT) contact diagnostics of the last evaluation
 
 
 def make_work(model) -> Work:
@@ -68,6 +73,9 @@ def make_work(model) -> Work:
         MiQ=np.zeros((nb, 6)),
         vd=np.zeros((nb, 6)),
         scal=np.zeros(4),
+        cflag=np.zeros(model.nclr, dtype=np.int64),
+        cddm=np.zeros(model.nclr),
+        cout=np.zeros((model.nclr, NCOUT)),
     )
 
 
@@ -114,6 +122,10 @@ def rhs(t, y, model, wk, alpha, beta, solver, ydot):
     m = model.nrow
     constraint_rows(model, t, y, wk)
     wk.scal[0] = applied_forces(model, y, wk.bA, wk.br, wk.brd, wk.bw, wk.fval, wk.Q)
+    if model.nclr > 0:
+        clearance_forces(
+            model, y, wk.bA, wk.br, wk.brd, wk.bw, wk.cflag, wk.cddm, wk.Q, wk.cout, ydot
+        )
     # Baumgarte stabilisation: the only place it enters (physics.md d.2)
     b2 = beta * beta
     for r in range(m):
@@ -145,7 +157,7 @@ def rhs(t, y, model, wk, alpha, beta, solver, ydot):
             pd_ += p
     wk.scal[1] = pc
     wk.scal[2] = pd_
-    w0 = 13 * nb
+    w0 = 13 * nb + 3 * model.nclr
     ydot[w0] = pc
     ydot[w0 + 1] = pd_
     ydot[w0 + 2] = wk.scal[0]

@@ -19,7 +19,8 @@ from numba import njit
 
 from clearance.dynamics.rhs import constraint_rows, rhs
 from clearance.dynamics.solve import solve_constrained
-from clearance.integrate.tableau import DP5_A, DP5_C, DP5_E, DP5_P
+from clearance.integrate.events import interpolate, locate_event, update_contacts
+from clearance.integrate.tableau import DP5_A, DP5_C, DP5_E
 from clearance.kinematics.rotations import quat_rotate_body
 
 
@@ -42,7 +43,7 @@ STATUS_MESSAGE = {
 }
 
 # stats layout
-ST_NFEV, ST_NACC, ST_NREJ, ST_NPROJ, ST_HMIN, ST_HMAX, ST_HLAST = 0, 1, 2, 3, 4, 5, 6
+ST_NFEV, ST_NACC, ST_NREJ, ST_NPROJ, ST_HMIN, ST_HMAX, ST_HLAST, ST_NEVT = 0, 1, 2, 3, 4, 5, 6, 7
 NSTATS = 8
 
 
@@ -150,15 +151,19 @@ def dopri5(
     max_steps,
     proj_tol,
     Y,
+    CS,
+    log,
     stats,
 ):
     """Integrate from (t0, y0) and write y at the times t_out into Y (n_out, ny).
 
-    proj_tol > 0 enables coordinate projection after each accepted step. Returns
-    (status, number of outputs written, last time reached).
+    proj_tol > 0 enables coordinate projection after each accepted step. Contact events of
+    clearance joints are located on the dense output and the step is cut there (events.py);
+    CS (n_out, nclr, 2) receives the discrete contact state (flag, delta_dot_minus) valid at
+    each output, `log` the events. Returns (status, outputs written, last time, events).
     """
     ny = y0.shape[0]
-    nerr = 13 * model.nb  # the work integrals do not steer the step size
+    nerr = 13 * model.nb + 3 * model.nclr  # the work integrals do not steer the step size
     K = np.zeros((7, ny))
     y = y0.copy()
     ynew = np.empty(ny)
@@ -169,20 +174,24 @@ def dopri5(
     t_end = t_out[-1]
     nout = t_out.shape[0]
     iout = 0
-    while iout < nout and t_out[iout] <= t0:
-        Y[iout, :] = y
-        iout += 1
+    nlog = 0
     for k in range(NSTATS):
         stats[k] = 0.0
     stats[ST_HMIN] = np.inf
     if proj_tol > 0.0:
         st = project(model, wk, t, y, solver, proj_tol, 5)
         if st != 0:
-            return 1, iout, t
+            return 1, iout, t, nlog
+    if model.nclr > 0:
+        _, nlog = update_contacts(model, wk, t, y, log, nlog)
+    while iout < nout and t_out[iout] <= t0:
+        Y[iout, :] = y
+        _record(wk, CS, iout)
+        iout += 1
     st = rhs(t, y, model, wk, alpha, beta, solver, K[0])
     stats[ST_NFEV] += 1
     if st != 0:
-        return 1, iout, t
+        return 1, iout, t, nlog
     # initial step (Hairer & Wanner I, II.4)
     h = h0
     if h <= 0.0:
@@ -219,9 +228,9 @@ def dopri5(
     nsteps = 0
     while t < t_end:
         if nsteps >= max_steps:
-            return 3, iout, t
+            return 3, iout, t, nlog
         if h < hmin:
-            return 2, iout, t
+            return 2, iout, t, nlog
         if t + 1.01 * h >= t_end:
             h = t_end - t
         # stages 2..7
@@ -262,43 +271,49 @@ def dopri5(
             stats[ST_NACC] += 1
             stats[ST_HMIN] = min(stats[ST_HMIN], h)
             stats[ST_HMAX] = max(stats[ST_HMAX], h)
-            tnew = t + h
+            # contact events inside the step: cut the step at the earliest one
+            xev = 2.0
+            if model.nclr > 0:
+                xev, _ = locate_event(model, wk, y, K, h, ytmp)
+            if xev <= 1.0:
+                interpolate(y, K, h, xev, ynew)
+                tnew = t + xev * h
+                stats[ST_NEVT] += 1
+            else:
+                tnew = t + h
             # dense output for every requested time in (t, tnew]
             while iout < nout and t_out[iout] <= tnew:
-                x = (t_out[iout] - t) / h
-                x2 = x * x
-                x3 = x2 * x
-                x4 = x3 * x
-                for i in range(ny):
-                    acc = 0.0
-                    for k in range(7):
-                        acc += K[k, i] * (
-                            DP5_P[k, 0] * x + DP5_P[k, 1] * x2 + DP5_P[k, 2] * x3 + DP5_P[k, 3] * x4
-                        )
-                    Y[iout, i] = y[i] + h * acc
+                interpolate(y, K, h, (t_out[iout] - t) / h, Y[iout])
                 if proj_tol > 0.0:
                     # the interpolant is off the manifold by its own error: project samples too
                     st = project(model, wk, t_out[iout], Y[iout], solver, proj_tol, 3)
                     if st != 0:
-                        return 1, iout, t
+                        return 1, iout, t, nlog
                 else:
                     normalise_quaternions(model, Y[iout], empty)
+                _record(wk, CS, iout)
                 iout += 1
             t = tnew
             for i in range(ny):
                 y[i] = ynew[i]
             if not _finite(y):
-                return 4, iout, t
+                return 4, iout, t, nlog
+            changed = xev <= 1.0
+            if model.nclr > 0:
+                ch, nlog = update_contacts(model, wk, t, y, log, nlog)
+                changed = changed or ch
             normalise_quaternions(model, y, K[6])
             if proj_tol > 0.0:
                 st = project(model, wk, t, y, solver, proj_tol, 3)
                 stats[ST_NPROJ] += 1
                 if st != 0:
-                    return 1, iout, t
+                    return 1, iout, t, nlog
+                changed = True
+            if changed:  # the FSAL stage no longer matches (y, discrete state)
                 st = rhs(t, y, model, wk, alpha, beta, solver, K[0])
                 stats[ST_NFEV] += 1
                 if st != 0:
-                    return 1, iout, t
+                    return 1, iout, t, nlog
             else:
                 for i in range(ny):
                     K[0, i] = K[6, i]  # FSAL
@@ -311,12 +326,22 @@ def dopri5(
             stats[ST_NREJ] += 1
             h = h / min(5.0, fac11 / safe)
             rejected = True
-    return 0, iout, t
+    return 0, iout, t, nlog
 
 
 @njit(cache=True, error_model="numpy")
-def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, stats):
-    """Classical RK4; between consecutive output times the step is dt/ceil(dt/h) <= h."""
+def _record(wk, CS, iout):
+    for k in range(wk.cflag.shape[0]):
+        CS[iout, k, 0] = wk.cflag[k]
+        CS[iout, k, 1] = wk.cddm[k]
+
+
+@njit(cache=True, error_model="numpy")
+def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, CS, log, stats):
+    """Classical RK4; between consecutive output times the step is dt/ceil(dt/h) <= h.
+
+    Contact events are not localised: the discrete contact state is updated at the end of
+    each step (first-order capture of delta_dot_minus, physics.md f.5)."""
     ny = y0.shape[0]
     y = y0.copy()
     k1 = np.empty(ny)
@@ -329,12 +354,16 @@ def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, stats):
     t = t0
     nout = t_out.shape[0]
     iout = 0
-    while iout < nout and t_out[iout] <= t0:
-        Y[iout, :] = y
-        iout += 1
+    nlog = 0
     if proj_tol > 0.0:
         if project(model, wk, t, y, solver, proj_tol, 5) != 0:
-            return 1, iout, t
+            return 1, iout, t, nlog
+    if model.nclr > 0:
+        _, nlog = update_contacts(model, wk, t, y, log, nlog)
+    while iout < nout and t_out[iout] <= t0:
+        Y[iout, :] = y
+        _record(wk, CS, iout)
+        iout += 1
     while iout < nout:
         dt = t_out[iout] - t
         n = max(1, int(math.ceil(dt / h - 1e-9)))
@@ -352,21 +381,24 @@ def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, stats):
             st |= rhs(t + hs, ytmp, model, wk, alpha, beta, solver, k4)
             stats[ST_NFEV] += 4
             if st != 0:
-                return 1, iout, t
+                return 1, iout, t, nlog
             for i in range(ny):
                 y[i] += hs / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
             t += hs
             stats[ST_NACC] += 1
             if not _finite(y):
-                return 4, iout, t
+                return 4, iout, t, nlog
             normalise_quaternions(model, y, k4[:0])
             if proj_tol > 0.0:
                 if project(model, wk, t, y, solver, proj_tol, 3) != 0:
-                    return 1, iout, t
+                    return 1, iout, t, nlog
                 stats[ST_NPROJ] += 1
+            if model.nclr > 0:
+                _, nlog = update_contacts(model, wk, t, y, log, nlog)
         t = t_out[iout]
         Y[iout, :] = y
+        _record(wk, CS, iout)
         iout += 1
     stats[ST_HMIN] = h
     stats[ST_HMAX] = h
-    return 0, iout, t
+    return 0, iout, t, nlog

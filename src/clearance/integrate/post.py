@@ -1,11 +1,13 @@
 """Post-processing at the output times (compiled): accelerations, multipliers, violations,
-energies and joint reactions, re-evaluated from the saved states."""
+energies, joint reactions and clearance-joint diagnostics, re-evaluated from the saved
+states and the discrete contact state recorded with them."""
 
 from __future__ import annotations
 
 import numpy as np
 from numba import njit
 
+from clearance.contact.joint import contact_energy
 from clearance.dynamics.forces import kinetic_energy, potential_energy
 from clearance.dynamics.rhs import rhs
 from clearance.kinematics.rotations import cross, matvec, sub
@@ -20,6 +22,7 @@ def post_process(
     solver,
     ts,
     Y,
+    CS,
     n,
     blk_row0,
     blk_nrow,
@@ -32,15 +35,22 @@ def post_process(
     EN,
     RF,
     RM,
+    COUT,
 ):
-    """For each of the first n outputs fill VD (v_dot), LAM, PHI, PHID, EN (T, V) and the
+    """For each of the first n outputs fill VD (v_dot), LAM, PHI, PHID, EN (T, V, V_c), the
     reaction force RF and moment RM (world, about the joint point) of each block on its
-    reporting body (side 1: body j, side 0: body i)."""
+    reporting body (side 1: body j, side 0: body i), and the clearance diagnostics COUT."""
     nb = model.nb
     yd = np.empty(Y.shape[1])
     for k in range(n):
         y = Y[k]
+        for c in range(model.nclr):
+            wk.cflag[c] = int(CS[k, c, 0])
+            wk.cddm[c] = CS[k, c, 1]
         rhs(ts[k], y, model, wk, alpha, beta, solver, yd)
+        for c in range(model.nclr):
+            for a in range(wk.cout.shape[1]):
+                COUT[k, c, a] = wk.cout[c, a]
         for i in range(6 * nb):
             VD[k, i] = yd[7 * nb + i]
         for r in range(model.nrow):
@@ -49,7 +59,10 @@ def post_process(
             PHID[k, r] = wk.phid[r]
         EN[k, 0] = kinetic_energy(model, y)
         EN[k, 1] = potential_energy(model, y, wk.bA, wk.br)
+        EN[k, 2] = contact_energy(model, wk.bA, wk.br)
         for bk in range(blk_row0.shape[0]):
+            if blk_nrow[bk] == 0:
+                continue
             side = blk_side[bk]
             o = 6 * side
             F0, F1, F2, n0, n1, n2 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from clearance.compile.compiled import Compiled
+from clearance.contact.joint import CO_DELTA, CO_E, CO_FN, CO_FT, CO_N, CO_VT
 from clearance.model.bodies import quaternion_to_rotation
 
 
@@ -26,7 +27,14 @@ class Result:
     energy: kinetic T, potential V (gravity + springs), work of all constraint forces W_c,
     of drivers W_d, of applied non-conservative forces W_a, and the balance residual
     T + V - (T + V)(0) - W_c - W_a [J] (physics.md j).
-    stats: nfev, naccept, nreject, nproject, hmin, hmax, wall_time [s].
+    stats: nfev, naccept, nreject, nproject, nevents (steps cut at a contact event), hmin,
+    hmax, wall_time [s].
+    Clearance joints (names in `clearance_names`): per-joint accessors eccentricity(),
+    penetration(), normal_force(), friction_force(), in_contact(), dissipated(); `events` is
+    the contact event log (t, joint index, +1 onset / -1 separation, delta_dot [m/s], e (3)
+    in the socket frame [m]); energy adds the contact elastic energy V_c ("contact"), the
+    normal damping dissipation D_n ("damping") and the friction work D_t ("friction"), and
+    the residual becomes T + V + V_c - (.)(0) - W_c - W_a + D_n + D_t (physics.md j).
     status 0 means success; otherwise `message` says why it stopped and the arrays hold
     everything computed up to then.
     """
@@ -50,6 +58,12 @@ class Result:
     status: int
     message: str
     settings: dict
+    clearance_names: tuple = ()
+    contact: np.ndarray = field(default=None, repr=False)  # (n, nclr, NCOUT) diagnostics
+    contact_state: np.ndarray = field(default=None, repr=False)  # (n, nclr, 2) flag, ddm
+    dissipation: np.ndarray = field(default=None, repr=False)  # (n, nclr, 2) D_n, D_t [J]
+    bristle: np.ndarray = field(default=None, repr=False)  # (n, nclr, 3) LuGre z [m]
+    events: np.ndarray = field(default=None, repr=False)  # (nevents, 7) contact event log
 
     @property
     def success(self) -> bool:
@@ -105,6 +119,55 @@ class Result:
         out = self.driver_force[:, cols]
         return out[:, 0] if len(cols) == 1 else out
 
+    # ------------------------------------------------------------ clearance joints
+    def _c(self, name: str) -> int:
+        if name not in self.clearance_names:
+            raise KeyError(
+                f"no clearance joint named {name!r}; clearance joints: {list(self.clearance_names)}"
+            )
+        return self.clearance_names.index(name)
+
+    def eccentricity(self, name: str) -> np.ndarray:
+        """(n, 3) ball centre relative to the socket centre, socket marker frame [m]."""
+        return self.contact[:, self._c(name), CO_E : CO_E + 3]
+
+    def penetration(self, name: str) -> np.ndarray:
+        """(n,) delta = |e| - c [m] (negative: free flight inside the clearance)."""
+        return self.contact[:, self._c(name), CO_DELTA]
+
+    def contact_force(self, name: str) -> np.ndarray:
+        """(n,) normal contact force magnitude F_N [N]."""
+        return self.contact[:, self._c(name), CO_FN]
+
+    def normal_force(self, name: str) -> np.ndarray:
+        """(n, 3) normal force on the ball, -F_N n_hat, world frame [N]."""
+        k = self._c(name)
+        return -self.contact[:, k, CO_FN, None] * self.contact[:, k, CO_N : CO_N + 3]
+
+    def friction_force(self, name: str) -> np.ndarray:
+        """(n, 3) friction force on the ball, -F_T_vec (opposes slip), world frame [N]."""
+        return -self.contact[:, self._c(name), CO_FT : CO_FT + 3]
+
+    def slip_velocity(self, name: str) -> np.ndarray:
+        """(n, 3) tangential slip velocity v_t of the ball relative to the socket [m/s]."""
+        return self.contact[:, self._c(name), CO_VT : CO_VT + 3]
+
+    def in_contact(self, name: str) -> np.ndarray:
+        """(n,) bool: delta > 0 at the sample."""
+        return self.penetration(name) > 0.0
+
+    def dissipated(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """(D_n, D_t): cumulative normal-damping dissipation and friction work [J]."""
+        k = self._c(name)
+        return self.dissipation[:, k, 0], self.dissipation[:, k, 1]
+
+    def impacts(self, name: str | None = None) -> np.ndarray:
+        """Onset rows of the event log (t, joint, +1, impact velocity, e_socket (3))."""
+        ev = self.events[self.events[:, 2] > 0] if self.events is not None else np.zeros((0, 7))
+        if name is not None:
+            ev = ev[ev[:, 1] == self._c(name)]
+        return ev
+
     def summary(self) -> str:
         st = self.stats
         e = self.energy
@@ -120,6 +183,13 @@ class Result:
             lines.append(
                 f"max |phi| = {np.max(np.abs(self.phi)):.3e}, "
                 f"max |phi_dot| = {np.max(np.abs(self.phi_dot)):.3e}"
+            )
+        for k, name in enumerate(self.clearance_names):
+            fn = self.contact[:, k, CO_FN]
+            lines.append(
+                f"clearance {name}: peak F_N {fn.max() if fn.size else 0:.4g} N, "
+                f"{len(self.impacts(name))} impacts, max penetration "
+                f"{max(0.0, float(self.contact[:, k, CO_DELTA].max())):.3g} m"
             )
         if self.t.size:
             scale = max(1e-300, float(np.max(np.abs(e["kinetic"]) + np.abs(e["potential"]))))

@@ -10,14 +10,17 @@ import time as _time
 import numpy as np
 
 from clearance.compile.compiled import NWORK, Compiled, compile_mechanism
+from clearance.contact.joint import NCOUT
 from clearance.dynamics.rhs import make_work, rhs
 from clearance.dynamics.solve import Solver
+from clearance.integrate.events import NLOG
 from clearance.integrate.loops import (
     NSTATS,
     ST_HLAST,
     ST_HMAX,
     ST_HMIN,
     ST_NACC,
+    ST_NEVT,
     ST_NFEV,
     ST_NPROJ,
     ST_NREJ,
@@ -76,7 +79,7 @@ def initial_state(
     if assemble_positions and c.nrow:
         y = assemble(c, y, t=t)
         y = velocity_analysis(c, y, t=t)
-    y[c.nq + c.nv :] = 0.0
+    y[c.iw :] = 0.0  # work integrals start at zero
     return y
 
 
@@ -101,6 +104,7 @@ def simulate(
     projection_tol: float = 1e-10,
     y0: np.ndarray | None = None,
     assemble_positions: bool = True,
+    max_events: int = 100_000,
 ) -> Result:
     """Simulate a mechanism from t_start to t_end.
 
@@ -108,9 +112,10 @@ def simulate(
     (adaptive, rtol/atol, first_step, max_step, min_step, max_steps) or "rk4" (fixed `step`).
     baumgarte: (alpha, beta) [1/s]; solver: "auto" (Schur; least squares if the constraints
     are redundant), "schur", "dense", "lstsq"; projection: mass-weighted coordinate
-    projection after every accepted step. The initial state is assembled and its velocities
-    made consistent unless assemble_positions=False. A failure returns the partial result
-    with status != 0 and a message.
+    projection after every accepted step. Contact onsets and separations of clearance joints
+    are located (DOPRI5) and logged (up to max_events). The initial state is assembled and
+    its velocities made consistent unless assemble_positions=False. A failure returns the
+    partial result with status != 0 and a message.
     """
     c = system if isinstance(system, Compiled) else compile_mechanism(system)
     if method not in METHODS:
@@ -141,11 +146,13 @@ def simulate(
     alpha, beta = (float(x) for x in baumgarte)
     wk = make_work(c.model)
     Y = np.zeros((t_out.size, c.ny))
+    CS = np.zeros((t_out.size, c.nclr, 2))
+    log = np.zeros((max_events if c.nclr else 0, NLOG))
     stats = np.zeros(NSTATS)
     ptol = float(projection_tol) if projection else 0.0
     wall0 = _time.perf_counter()
     if method == "dopri5":
-        status, nout, t_reached = dopri5(
+        status, nout, t_reached, nlog = dopri5(
             c.model,
             wk,
             alpha,
@@ -162,20 +169,39 @@ def simulate(
             int(max_steps),
             ptol,
             Y,
+            CS,
+            log,
             stats,
         )
     else:
-        status, nout, t_reached = rk4(
-            c.model, wk, alpha, beta, code, float(t_start), y, t_out, float(step), ptol, Y, stats
+        status, nout, t_reached, nlog = rk4(
+            c.model,
+            wk,
+            alpha,
+            beta,
+            code,
+            float(t_start),
+            y,
+            t_out,
+            float(step),
+            ptol,
+            Y,
+            CS,
+            log,
+            stats,
         )
     wall = _time.perf_counter() - wall0
     message = STATUS_MESSAGE[Status(status)]
     if status != 0:
         message += f" (stopped at t = {t_reached:.6g} s; {nout} of {t_out.size} samples kept)"
+    if nlog > log.shape[0]:
+        message += f"; the event log kept the first {log.shape[0]} of {nlog} contact events"
     return _build_result(
         c,
         t_out[:nout],
         Y[:nout],
+        CS[:nout],
+        log[: min(nlog, log.shape[0])],
         wk,
         alpha,
         beta,
@@ -200,7 +226,7 @@ def simulate(
 
 
 def _build_result(
-    c: Compiled, ts, Y, wk, alpha, beta, code, stats, wall, status, message, settings
+    c: Compiled, ts, Y, CS, log, wk, alpha, beta, code, stats, wall, status, message, settings
 ) -> Result:
     n = ts.size
     m = c.nrow
@@ -217,9 +243,10 @@ def _build_result(
     LAM = np.zeros((n, m))
     PHI = np.zeros((n, m))
     PHID = np.zeros((n, m))
-    EN = np.zeros((n, 2))
+    EN = np.zeros((n, 3))
     RF = np.zeros((n, nbk, 3))
     RM = np.zeros((n, nbk, 3))
+    COUT = np.zeros((n, c.nclr, NCOUT))
     if n:
         post_process(
             c.model,
@@ -229,6 +256,7 @@ def _build_result(
             code,
             ts,
             Y,
+            CS,
             n,
             blk_row0,
             blk_nrow,
@@ -241,10 +269,18 @@ def _build_result(
             EN,
             RF,
             RM,
+            COUT,
         )
-    W = Y[:, c.nq + c.nv : c.nq + c.nv + NWORK]
-    T, V = EN[:, 0], EN[:, 1]
-    resid = (T + V - (T[0] + V[0]) - W[:, 0] - W[:, 2]) if n else np.zeros(0)
+    W = Y[:, c.iw : c.iw + NWORK]
+    Dn = Y[:, c.iw + NWORK : c.iw + NWORK + c.nclr]
+    Dt = Y[:, c.iw + NWORK + c.nclr : c.iw + NWORK + 2 * c.nclr]
+    T, V, Vc = EN[:, 0], EN[:, 1], EN[:, 2]
+    # physics.md j: residual = (T + V + V_c) - (.)(0) - W_c - W_a + D_n + D_t
+    resid = (
+        (T + V + Vc - (T[0] + V[0] + Vc[0]) - W[:, 0] - W[:, 2] + Dn.sum(axis=1) + Dt.sum(axis=1))
+        if n
+        else np.zeros(0)
+    )
     drv_rows, drv_names, drv_scale = [], [], []
     for b in c.drivers:
         d = mech.drivers[b.name]
@@ -263,6 +299,9 @@ def _build_result(
         work_constraints=W[:, 0],
         work_drivers=W[:, 1],
         work_applied=W[:, 2],
+        contact=Vc,
+        damping=Dn.sum(axis=1),
+        friction=Dt.sum(axis=1),
         residual=resid,
     )
     st = dict(
@@ -273,6 +312,7 @@ def _build_result(
         hmin=float(stats[ST_HMIN]),
         hmax=float(stats[ST_HMAX]),
         hlast=float(stats[ST_HLAST]),
+        nevents=int(stats[ST_NEVT]),
         wall_time=wall,
     )
     return Result(
@@ -299,6 +339,12 @@ def _build_result(
         status=status,
         message=message,
         settings=settings,
+        clearance_names=tuple(ci.name for ci in c.clearances),
+        contact=COUT,
+        contact_state=CS.copy(),
+        dissipation=np.stack([Dn, Dt], axis=-1),
+        bristle=Y[:, c.iz : c.iw].reshape(n, c.nclr, 3).copy(),
+        events=log.copy(),
     )
 
 

@@ -21,17 +21,34 @@ def save_npz(result: Result, path: str | os.PathLike) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     c = result.compiled
-    arrays = dict(t=result.t, q=result.q, v=result.v, a=result.a, lam=result.lam,
-                  phi=result.phi, phi_dot=result.phi_dot, reaction_force=result.reaction_force,
-                  reaction_moment=result.reaction_moment, driver_force=result.driver_force)
+    arrays = dict(
+        t=result.t,
+        q=result.q,
+        v=result.v,
+        a=result.a,
+        lam=result.lam,
+        phi=result.phi,
+        phi_dot=result.phi_dot,
+        reaction_force=result.reaction_force,
+        reaction_moment=result.reaction_moment,
+        driver_force=result.driver_force,
+    )
     arrays.update({f"energy_{k}": v for k, v in result.energy.items()})
-    meta = dict(mechanism=c.mechanism.name, bodies=list(c.body_names),
-                blocks=list(result.blocks), reaction_body=list(result.reaction_body),
-                driver_names=list(result.driver_names), stats=result.stats,
-                status=result.status, message=result.message,
-                settings={k: (v if isinstance(v, (str, int, float, bool, type(None)))
-                              else str(v)) for k, v in result.settings.items()},
-                layout=c.describe())
+    meta = dict(
+        mechanism=c.mechanism.name,
+        bodies=list(c.body_names),
+        blocks=list(result.blocks),
+        reaction_body=list(result.reaction_body),
+        driver_names=list(result.driver_names),
+        stats=result.stats,
+        status=result.status,
+        message=result.message,
+        settings={
+            k: (v if isinstance(v, (str, int, float, bool, type(None))) else str(v))
+            for k, v in result.settings.items()
+        },
+        layout=c.describe(),
+    )
     fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "wb") as fh:

@@ -66,9 +66,29 @@ class Joint:
 
 @dataclass(frozen=True)
 class Spherical(Joint):
-    """Ball joint: marker points coincide (3 rows)."""
+    """Ball joint: marker points coincide (3 rows).
+
+    With `clearance=Clearance(...)` the three rows are removed and a ball-in-socket contact
+    force element acts instead (physics.md f); see `clearance.model.clearance.Clearance`.
+    """
+
+    clearance: object = None
 
     kind: ClassVar[JointType] = JointType.SPHERICAL
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.clearance is not None and not hasattr(self.clearance, "ball_radius"):
+            raise ModelError(
+                f"Spherical '{self.name}'",
+                "clearance",
+                self.clearance,
+                "expected a Clearance or None",
+            )
+
+    @property
+    def nrows(self) -> int:
+        return 0 if self.clearance is not None else 3
 
 
 @dataclass(frozen=True)

@@ -214,6 +214,23 @@ class Mechanism:
                 raise ModelError(f"Mechanism '{self.name}'", "replace", name, "unknown element")
         return m.validate()
 
+    def with_clearance(self, joint: str, clearance: object) -> Mechanism:
+        """A copy in which spherical joint `joint` has `clearance` (None: ideal again)."""
+        from dataclasses import replace
+
+        from clearance.model.joints import Spherical
+
+        jt = self.joints.get(joint)
+        if not isinstance(jt, Spherical):
+            raise ModelError(
+                f"Mechanism '{self.name}'",
+                "with_clearance",
+                joint,
+                "expected the name of a Spherical joint; spherical joints: "
+                f"{[n for n, j in self.joints.items() if isinstance(j, Spherical)]}",
+            )
+        return self.replace(**{joint: replace(jt, clearance=clearance)})
+
     def without(self, *names: str) -> Mechanism:
         """A copy without the named joints, drivers or forces."""
         m = Mechanism(

@@ -1,0 +1,178 @@
+"""Contact events of clearance joints, compiled (physics.md d.5, f.5).
+
+Onset (delta crosses 0 upward) and separation (downward) are located on the DOPRI5 dense
+interpolant of an accepted step, so that no contact is stepped over: delta is sampled at
+interior points of the step, and a sign change is bracketed and refined (Illinois regula
+falsi) until |delta| <= onset_tolerance * c on the far side of the crossing. The step is then
+cut at the event, the discrete state updated (contact flag; impact velocity latched, floored;
+LuGre bristles reset at separation) and the event logged.
+
+Impact log columns: t [s], joint index, kind (+1 onset, -1 separation), delta_dot [m/s],
+e (3) contact direction times |e| in the socket marker frame [m].
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from clearance.contact.joint import clearance_geometry
+from clearance.contact.laws import FrictionLaw
+from clearance.dynamics.rhs import body_states
+from clearance.integrate.tableau import DP5_P
+from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
+
+NLOG = 7
+_LUGRE = int(FrictionLaw.LUGRE)
+# interior samples of a step at which delta is checked before bracketing a crossing
+_NSAMPLE = 4
+
+
+@njit(cache=True, error_model="numpy")
+def interpolate(y, K, h, x, out):
+    """DOPRI5 dense output at t + x h into out (4th-order continuous extension)."""
+    x2 = x * x
+    x3 = x2 * x
+    x4 = x3 * x
+    for i in range(y.shape[0]):
+        acc = 0.0
+        for k in range(7):
+            acc += K[k, i] * (
+                DP5_P[k, 0] * x + DP5_P[k, 1] * x2 + DP5_P[k, 2] * x3 + DP5_P[k, 3] * x4
+            )
+        out[i] = y[i] + h * acc
+
+
+@njit(cache=True, error_model="numpy")
+def _delta(model, wk, k, yv):
+    body_states(model, yv, wk)
+    return clearance_geometry(model, k, wk.bA, wk.br)[2]
+
+
+@njit(cache=True, error_model="numpy")
+def _wants(flag, d):
+    """True if delta d contradicts the contact flag (an event happened)."""
+    return (flag == 0 and d > 0.0) or (flag == 1 and d < 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def locate_event(model, wk, y, K, h, ytmp):
+    """Earliest contact event inside the step (x in (0, 1]) and its joint, or (2.0, -1).
+
+    The returned x is on the far side of the crossing with |delta| <= tol * c (or the
+    bracket is below 1e-14 of the step), so the discrete update applies there.
+    """
+    xbest = 2.0
+    kbest = -1
+    for k in range(model.nclr):
+        flag = wk.cflag[k]
+        tol = model.clr_geo[k, 4] * model.clr_geo[k, 2]
+        xlo = 0.0
+        dlo = _delta(model, wk, k, y)
+        found = False
+        dhi = 0.0
+        xhi = 1.0
+        for j in range(1, _NSAMPLE + 1):
+            x = j / _NSAMPLE
+            if x >= xbest:
+                break
+            interpolate(y, K, h, x, ytmp)
+            d = _delta(model, wk, k, ytmp)
+            if _wants(flag, d):
+                xhi = x
+                dhi = d
+                found = True
+                break
+            xlo = x
+            dlo = d
+        if not found:
+            continue
+        # Illinois regula falsi on delta(x) over [xlo, xhi]; keep the far side
+        side = 0
+        for _ in range(100):
+            if abs(dhi) <= tol or xhi - xlo < 1e-14:
+                break
+            if dhi != dlo:
+                xm = xhi - dhi * (xhi - xlo) / (dhi - dlo)
+            else:
+                xm = 0.5 * (xlo + xhi)
+            if not (xlo < xm < xhi):
+                xm = 0.5 * (xlo + xhi)
+            interpolate(y, K, h, xm, ytmp)
+            dm = _delta(model, wk, k, ytmp)
+            if _wants(flag, dm):
+                xhi = xm
+                dhi = dm
+                if side == 1:
+                    dlo *= 0.5
+                side = 1
+            else:
+                xlo = xm
+                dlo = dm
+                if side == -1:
+                    dhi *= 0.5
+                side = -1
+        if xhi < xbest:
+            xbest = xhi
+            kbest = k
+    return xbest, kbest
+
+
+@njit(cache=True, error_model="numpy")
+def update_contacts(model, wk, t, y, log, nlog):
+    """Discrete update at an accepted state: onset latches delta_dot_minus (floored) and
+    sets the flag, separation clears it and resets the LuGre bristles; LuGre bristles of
+    joints in contact are kept in the tangent plane (h.4). Returns (changed, nlog).
+
+    changed is True if y or the discrete state changed (the FSAL stage is then invalid).
+    """
+    changed = False
+    body_states(model, y, wk)
+    iz = 13 * model.nb
+    for k in range(model.nclr):
+        s = model.clr_bs[k]
+        b = model.clr_bb[k]
+        e, el, delta = clearance_geometry(model, k, wk.bA, wk.br)
+        n = scale(1.0 / el, e) if el > 0.0 else (0.0, 0.0, 0.0)
+        zi = iz + 3 * k
+        if _wants(wk.cflag[k], delta):
+            vPs = add(
+                (wk.brd[s, 0], wk.brd[s, 1], wk.brd[s, 2]),
+                cross((wk.bw[s, 0], wk.bw[s, 1], wk.bw[s, 2]), matvec(wk.bA[s], model.clr_ps[k])),
+            )
+            vPb = add(
+                (wk.brd[b, 0], wk.brd[b, 1], wk.brd[b, 2]),
+                cross((wk.bw[b, 0], wk.bw[b, 1], wk.bw[b, 2]), matvec(wk.bA[b], model.clr_pb[k])),
+            )
+            ddot = dot(n, sub(vPb, vPs))
+            if wk.cflag[k] == 0:
+                wk.cflag[k] = 1
+                wk.cddm[k] = max(ddot, model.clr_geo[k, 3])
+                kind = 1.0
+            else:
+                wk.cflag[k] = 0
+                wk.cddm[k] = 0.0
+                y[zi] = 0.0
+                y[zi + 1] = 0.0
+                y[zi + 2] = 0.0
+                kind = -1.0
+            changed = True
+            if nlog < log.shape[0]:
+                es = mattvec(wk.bA[s], e)
+                Ts = model.clr_Ts[k]
+                log[nlog, 0] = t
+                log[nlog, 1] = k
+                log[nlog, 2] = kind
+                log[nlog, 3] = ddot
+                for a in range(3):
+                    log[nlog, 4 + a] = Ts[0, a] * es[0] + Ts[1, a] * es[1] + Ts[2, a] * es[2]
+            nlog += 1
+        elif wk.cflag[k] == 1 and model.clr_fric[k] == _LUGRE:
+            zn = y[zi] * n[0] + y[zi + 1] * n[1] + y[zi + 2] * n[2]
+            zz = math.sqrt(y[zi] ** 2 + y[zi + 1] ** 2 + y[zi + 2] ** 2)
+            if abs(zn) > 1e-3 * zz:
+                for a in range(3):
+                    y[zi + a] -= zn * n[a]
+                changed = True
+    return changed, nlog
