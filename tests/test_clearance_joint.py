@@ -307,3 +307,31 @@ def test_two_clearance_joints_stay_within_clearance():
     e = r.energy
     scale = np.max(np.abs(e["kinetic"]) + np.abs(e["potential"]))
     assert np.max(np.abs(e["residual"])) < 1e-5 * scale
+
+
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        (dict(ball_radius=-0.01, radial_clearance=1e-4), "ball_radius"),
+        (dict(ball_radius=0.01), "socket_radius"),
+        (dict(ball_radius=0.01, socket_radius=0.011, radial_clearance=1e-3), "socket_radius"),
+        (dict(ball_radius=0.01, socket_radius=0.009), "socket_radius"),
+        (dict(ball_radius=0.01, radial_clearance=0.0), "radial_clearance"),
+        (dict(ball_radius=0.01, radial_clearance=1e-4, socket="k"), "socket"),
+        (dict(ball_radius=0.01, radial_clearance=1e-4, normal="flores"), "normal"),
+        (dict(ball_radius=0.01, radial_clearance=1e-4, onset_tolerance=0.7), "onset_tolerance"),
+    ],
+)
+def test_clearance_validation_names_the_field(kwargs, field):
+    with pytest.raises(cl.ModelError, match=f"'{field}'"):
+        Clearance(**kwargs)
+
+
+def test_with_clearance_is_one_line_and_names_spherical_joints():
+    m = pendulum(None, None, ideal=True)
+    m2 = m.with_clearance("S", Clearance(ball_radius=RB, radial_clearance=C))
+    assert m.joints["S"].clearance is None  # the original is not mutated
+    assert cl.compile_mechanism(m2).nclr == 1
+    assert Clearance(ball_radius=RB, radial_clearance=C).c == C  # kept exactly
+    with pytest.raises(cl.ModelError, match="expected the name of a Spherical joint"):
+        m.with_clearance("nope", Clearance(ball_radius=RB, radial_clearance=C))

@@ -15,10 +15,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from clearance.model.contact_laws import (
+    FRICTION_LAWS,
+    NORMAL_LAWS,
     STEEL,
     Flores,
+    FrictionContactLaw,
     Material,
     NoFriction,
+    NormalContactLaw,
 )
 from clearance.model.errors import ModelError
 
@@ -76,17 +80,30 @@ class Clearance:
                     self.socket_radius,
                     f"must exceed ball_radius = {rb} (clearance > 0)",
                 )
+            c = rs - rb
         else:
-            rs = rb + _pos(who, "radial_clearance", self.radial_clearance)
+            c = _pos(who, "radial_clearance", self.radial_clearance)  # kept exactly as given
+            rs = rb + c
         object.__setattr__(self, "ball_radius", rb)
         object.__setattr__(self, "socket_radius", rs)
-        object.__setattr__(self, "radial_clearance", rs - rb)
+        object.__setattr__(self, "radial_clearance", c)
         if self.socket not in ("i", "j"):
             raise ModelError(who, "socket", self.socket, "allowed: 'i' or 'j'")
-        if not hasattr(self.normal, "encode"):
-            raise ModelError(who, "normal", self.normal, "expected a normal contact law")
-        if not hasattr(self.friction, "encode"):
-            raise ModelError(who, "friction", self.friction, "expected a friction law")
+        if not isinstance(self.normal, NormalContactLaw):
+            raise ModelError(
+                who,
+                "normal",
+                self.normal,
+                f"expected a normal contact law, one of {sorted(NORMAL_LAWS)} "
+                "(e.g. Flores(restitution=0.9))",
+            )
+        if not isinstance(self.friction, FrictionContactLaw):
+            raise ModelError(
+                who,
+                "friction",
+                self.friction,
+                f"expected a friction law, one of {sorted(FRICTION_LAWS)} (e.g. LuGre())",
+            )
         object.__setattr__(self, "velocity_floor", _pos(who, "velocity_floor", self.velocity_floor))
         tol = _pos(who, "onset_tolerance", self.onset_tolerance)
         if tol >= 0.5:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import ClassVar
 
+from clearance.model.clearance import Clearance
 from clearance.model.errors import ModelError
 
 
@@ -78,12 +79,12 @@ class Spherical(Joint):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.clearance is not None and not hasattr(self.clearance, "ball_radius"):
+        if self.clearance is not None and not isinstance(self.clearance, Clearance):
             raise ModelError(
                 f"Spherical '{self.name}'",
                 "clearance",
                 self.clearance,
-                "expected a Clearance or None",
+                "expected a Clearance(...) or None",
             )
 
     @property
