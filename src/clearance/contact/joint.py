@@ -19,6 +19,7 @@ import math
 from numba import njit
 
 from clearance.contact.laws import FrictionLaw, elastic_energy, friction_force, normal_force
+from clearance.dynamics.forces import add_force
 from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
 
 _LUGRE = int(FrictionLaw.LUGRE)
@@ -46,19 +47,6 @@ def clearance_geometry(model, k, bA, br):
     e = sub(Pb, Ps)
     el = math.sqrt(dot(e, e))
     return e, el, el - model.clr_geo[k, 2]
-
-
-@njit(cache=True, error_model="numpy")
-def _add_force(Q, b, A, F, arm):
-    if b < 0:
-        return
-    Q[b, 0] += F[0]
-    Q[b, 1] += F[1]
-    Q[b, 2] += F[2]
-    n = mattvec(A, cross(arm, F))
-    Q[b, 3] += n[0]
-    Q[b, 4] += n[1]
-    Q[b, 5] += n[2]
 
 
 @njit(cache=True, error_model="numpy")
@@ -134,8 +122,8 @@ def clearance_forces(model, y, bA, br, brd, bw, cflag, cddm, Q, cout, ydot):
             ydot[zi + 1] = zd[1]
             ydot[zi + 2] = zd[2]
         fb = sub(scale(-fn, n), ft)  # on the ball, at r_b^Q
-        _add_force(Q, b, bA[b], fb, arm_b)
-        _add_force(Q, s, bA[s], scale(-1.0, fb), arm_s)
+        add_force(Q, b, bA, fb, arm_b)
+        add_force(Q, s, bA, scale(-1.0, fb), arm_s)
         ydot[iw + k] = (fn - fel) * ddot  # D_n rate: normal damping dissipation (j)
         ydot[iw + model.nclr + k] = dot(ft, vt)  # D_t rate: friction work (j)
         cout[k, CO_FN] = fn

@@ -16,7 +16,7 @@ _TORQUE = int(ForceType.TORQUE)
 
 
 @njit(cache=True, error_model="numpy")
-def _add_force(Q, b, bA, F, s_w):
+def add_force(Q, b, bA, F, s_w):
     """Add world force F applied at arm s_w (world, from the CoM) to body b (skip ground)."""
     if b < 0:
         return
@@ -62,7 +62,7 @@ def applied_forces(model, y, bA, br, brd, bw, fval, Q):
             F = scale(mag, u)
             if kind == _POINT:
                 s = matvec(bA[i], model.frc_v[k, 0])
-                _add_force(Q, i, bA, F, s)
+                add_force(Q, i, bA, F, s)
                 vp = add(
                     (brd[i, 0], brd[i, 1], brd[i, 2]), cross((bw[i, 0], bw[i, 1], bw[i, 2]), s)
                 )
@@ -90,8 +90,8 @@ def applied_forces(model, y, bA, br, brd, bw, fval, Q):
             k_, c_, l0 = model.frc_par[k, 0], model.frc_par[k, 1], model.frc_par[k, 2]
             tension_nc = c_ * ldot + mag
             tension = k_ * (ln - l0) + tension_nc
-            _add_force(Q, j, bA, scale(-tension, u), sj)
-            _add_force(Q, i, bA, scale(tension, u), si)
+            add_force(Q, j, bA, scale(-tension, u), sj)
+            add_force(Q, i, bA, scale(tension, u), si)
             power -= tension_nc * ldot
     return power
 

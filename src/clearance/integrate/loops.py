@@ -48,6 +48,20 @@ NSTATS = 8
 
 
 @njit(cache=True, error_model="numpy")
+def _correction(model, wk, err, solver):
+    """wk.vd <- -M^-1 J^T (J M^-1 J^T)^-1 err: the kinetic-energy-closest change that removes
+    the (linearised) violation err; the constrained solve with Q = 0 and gamma_B = -err."""
+    for b in range(model.nb):
+        for k in range(6):
+            wk.Q[b, k] = 0.0
+    for r in range(model.nrow):
+        wk.gB[r] = -err[r]
+    return solve_constrained(
+        model, wk.J, wk.gB, wk.Q, solver, wk.JM, wk.S, wk.first, wk.rl, wk.lam, wk.MiQ, wk.vd
+    )
+
+
+@njit(cache=True, error_model="numpy")
 def project(model, wk, t, y, solver, tol, maxit):
     """Mass-weighted projection of positions then velocities onto the constraint manifold.
 
@@ -66,14 +80,7 @@ def project(model, wk, t, y, solver, tol, maxit):
             err = max(err, abs(wk.phi[r]))
         if err <= tol:
             break
-        for b in range(nb):
-            for k in range(6):
-                wk.Q[b, k] = 0.0
-        for r in range(m):
-            wk.gB[r] = -wk.phi[r]
-        st = solve_constrained(
-            model, wk.J, wk.gB, wk.Q, solver, wk.JM, wk.S, wk.first, wk.rl, wk.lam, wk.MiQ, wk.vd
-        )
+        st = _correction(model, wk, wk.phi, solver)
         if st != 0:
             return st
         for b in range(nb):
@@ -85,14 +92,7 @@ def project(model, wk, t, y, solver, tol, maxit):
             for k in range(4):
                 y[q + 3 + k] = pnew[k] / nrm
     constraint_rows(model, t, y, wk)
-    for b in range(nb):
-        for k in range(6):
-            wk.Q[b, k] = 0.0
-    for r in range(m):
-        wk.gB[r] = -wk.phid[r]
-    st = solve_constrained(
-        model, wk.J, wk.gB, wk.Q, solver, wk.JM, wk.S, wk.first, wk.rl, wk.lam, wk.MiQ, wk.vd
-    )
+    st = _correction(model, wk, wk.phid, solver)
     if st != 0:
         return st
     off = 7 * nb

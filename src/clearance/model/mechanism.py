@@ -194,9 +194,9 @@ class Mechanism:
             return -1
         return list(self.bodies).index(name)
 
-    def replace(self, **changes: object) -> Mechanism:
-        """A copy with some elements replaced by name (the original is not mutated)."""
-        m = Mechanism(
+    def copy(self) -> Mechanism:
+        """A shallow copy (elements are immutable; the containers are new)."""
+        return Mechanism(
             self.name,
             self.gravity,
             dict(self.bodies),
@@ -205,6 +205,10 @@ class Mechanism:
             dict(self.drivers),
             dict(self.forces),
         )
+
+    def replace(self, **changes: object) -> Mechanism:
+        """A copy with some elements replaced by name (the original is not mutated)."""
+        m = self.copy()
         for name, e in changes.items():
             for d in (m.bodies, m.markers, m.joints, m.drivers, m.forces):
                 if name in d:
@@ -233,15 +237,7 @@ class Mechanism:
 
     def without(self, *names: str) -> Mechanism:
         """A copy without the named joints, drivers or forces."""
-        m = Mechanism(
-            self.name,
-            self.gravity,
-            dict(self.bodies),
-            dict(self.markers),
-            dict(self.joints),
-            dict(self.drivers),
-            dict(self.forces),
-        )
+        m = self.copy()
         for name in names:
             for d in (m.joints, m.drivers, m.forces):
                 if name in d:
