@@ -1,0 +1,586 @@
+"""`Result` <-> `xarray.Dataset`, one NetCDF4 file per study, CSV and MATLAB exports.
+
+Dataset layout (`result_to_dataset`); every variable has `units` (SI), `long_name` and
+`description` attributes:
+
+dimensions
+    time, body, axis (x, y, z), quat (e0..e3), row (constraint rows), block (joints and
+    drivers), driver_row (actuator rows), clearance (clearance joints), event (contact events)
+coordinates
+    time [s]; body; axis; quat; row (labels "U_1[0]") with row_block, row_kind; block with
+    block_kind, block_body_i, block_body_j, reaction_body; driver_row with driver and
+    driver_units; clearance with clearance_socket_body, clearance_ball_body,
+    radial_clearance [m], ball_radius [m], socket_radius [m], normal_law, friction_law
+per body (time, body, axis)
+    position [m], velocity [m/s], angular_velocity (world) and angular_velocity_body [rad/s],
+    acceleration [m/s^2], angular_acceleration (world) and angular_acceleration_body
+    [rad/s^2]; euler_parameters (time, body, quat) [1]
+constraints
+    multiplier, constraint_violation, constraint_violation_rate (time, row);
+    reaction_force [N], reaction_moment [N m] (time, block, axis); actuator_force
+    (time, driver_row) [N or N m]; energy_<term> (time) [J] for every energy term
+per clearance joint (time, clearance[, axis])
+    eccentricity (socket frame) [m], penetration [m], penetration_rate [m/s],
+    contact_force (|F_N|) [N], elastic_force [N], contact_normal [1], normal_force and
+    friction_force (on the ball, world) [N], slip_velocity [m/s], ball_centre [m],
+    contact_flag [1], impact_velocity [m/s], dissipation_damping and dissipation_friction
+    [J], bristle (LuGre z) [m]
+event log (event[, axis])
+    event_time [s], event_clearance, event_joint, event_kind (+1 onset, -1 separation),
+    event_penetration_rate [m/s], event_eccentricity [m]
+attributes
+    mechanism, clearance_version, layout (`Compiled.describe()`), status, success, message,
+    settings (JSON), stats_<name> (solver statistics), created, plus the caller's attrs.
+Unit strings are UDUNITS-style ("m s-1", "rad s-2", "N m"; "1" dimensionless, "mixed" per
+row: the multipliers and constraint violations, whose rows mix m and 1).
+
+NetCDF (`save_results`): one group per run ("ideal", "clearance", ...), root attributes
+(clearance_version, created, groups (JSON list, in order), the caller's attrs). CSV and MAT
+exports are in `clearance.io.export` (re-exported here). Every file is written atomically.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as _dt
+import json
+import os
+import tempfile
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from clearance.contact.joint import (
+    CO_DDOT,
+    CO_DELTA,
+    CO_E,
+    CO_FEL,
+    CO_FN,
+    CO_FT,
+    CO_N,
+    CO_PB,
+    CO_VT,
+    NCOUT,
+)
+from clearance.integrate.result import Result
+
+ENGINE = "h5netcdf"
+AXIS = ("x", "y", "z")
+QUAT = ("e0", "e1", "e2", "e3")
+
+_ENERGY_NAMES = {
+    "kinetic": "kinetic energy T",
+    "potential": "potential energy V (gravity and springs)",
+    "work_constraints": "work W_c of all constraint forces (drivers included)",
+    "work_drivers": "work W_d of the drivers",
+    "work_applied": "work W_a of applied non-conservative forces",
+    "work_moving": "work W_m of contact forces through moving attachment points",
+    "work_inertia": "lumped-limb inertia power integral W_L",
+    "contact": "elastic contact energy V_c of the clearance joints",
+    "damping": "normal-damping dissipation D_n, all clearance joints",
+    "friction": "friction work D_t, all clearance joints",
+    "residual": "energy balance residual (physics.md j)",
+}
+
+
+# ----------------------------------------------------------------------------- helpers
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
+    """Yield a temporary path next to `path`; on success rename it over `path`.
+
+    The temporary file lives in the same folder (so `os.replace` is atomic) and is removed
+    if the body raises; an existing `path` is then left untouched. The final file gets the
+    mode of the file it replaces, else 0o644.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        mode = path.stat().st_mode & 0o777 if path.exists() else 0o644
+        os.chmod(tmp, mode)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+
+
+def _attr_value(v: object) -> object:
+    """A value NetCDF can hold as an attribute (str, number, numeric 1-D array)."""
+    if isinstance(v, (bool, np.bool_)):
+        return int(v)
+    if isinstance(v, (str, int, float, np.integer, np.floating)):
+        return v
+    if isinstance(v, (list, tuple, np.ndarray)):
+        a = np.asarray(v)
+        if a.ndim == 1 and a.size and a.dtype.kind in "iuf":
+            return a
+    return json.dumps(v, default=str)
+
+
+def clean_attrs(attrs: Mapping | None) -> dict:
+    """Attributes with every value converted to a NetCDF-storable type (see `_attr_value`)."""
+    return {str(k): _attr_value(v) for k, v in (attrs or {}).items()}
+
+
+def _var(dims, data, units: str, long_name: str, description: str = "") -> xr.Variable:
+    a = {"units": units, "long_name": long_name}
+    if description:
+        a["description"] = description
+    return xr.Variable(dims, data, attrs=a)
+
+
+def _strings(items) -> np.ndarray:
+    a = np.array([str(s) for s in items], dtype=str)
+    return a if a.size else np.array([], dtype="U1")
+
+
+def _driver_units(kind: str) -> str:
+    return "N m" if kind == "OrientationDriver" else "N"
+
+
+# ----------------------------------------------------------------------------- Result -> Dataset
+def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dataset:
+    """Convert a `Result` into an `xarray.Dataset` (layout in the module docstring).
+
+    attrs: extra attributes (e.g. the scenario as a TOML string) added after the built-in
+    ones; values that are not strings, numbers or numeric vectors are stored as JSON.
+    """
+    import clearance
+
+    c = result.compiled
+    n = result.t.size
+    nb = c.nb
+    bodies = list(c.body_names)
+    allblocks = {b.name: b for b in c.joints + c.drivers}
+    blocks = [allblocks[nm] for nm in result.blocks]
+    rowblocks = [b for b in c.joints + c.drivers if b.nrows]
+    row_label, row_block, row_kind = [], [], []
+    for b in sorted(rowblocks, key=lambda b: b.row0):
+        for i in range(b.nrows):
+            row_label.append(f"{b.name}[{i}]")
+            row_block.append(b.name)
+            row_kind.append(b.kind)
+    if len(row_label) != result.lam.shape[1]:
+        raise ValueError(f"{len(row_label)} row labels for {result.lam.shape[1]} multipliers")
+    dnames = list(result.driver_names)
+    counts = {d: dnames.count(d) for d in dnames}
+    seen: dict = {}
+    drow = []
+    for d in dnames:
+        k = seen.get(d, 0)
+        seen[d] = k + 1
+        drow.append(d if counts[d] == 1 else f"{d}[{k}]")
+    dunits = [_driver_units(allblocks[d].kind) for d in dnames]
+
+    q = result.q.reshape(n, nb, 7)
+    v = result.v.reshape(n, nb, 6)
+    a = result.a.reshape(n, nb, 6)
+    p = q[:, :, 3:]
+    R = rotation_matrices(p)
+    wb, ab = v[:, :, 3:], a[:, :, 3:]
+    tb = ("time", "body", "axis")
+
+    dv: dict = {
+        "position": _var(tb, q[:, :, :3], "m", "mass-centre position", "world frame"),
+        "euler_parameters": _var(
+            ("time", "body", "quat"),
+            p,
+            "1",
+            "Euler parameters (e0 scalar)",
+            "body -> world rotation as integrated (unit norm to solver tolerance)",
+        ),
+        "velocity": _var(tb, v[:, :, :3], "m s-1", "mass-centre velocity", "world frame"),
+        "angular_velocity": _var(
+            tb, np.einsum("nbij,nbj->nbi", R, wb), "rad s-1", "angular velocity", "world frame"
+        ),
+        "angular_velocity_body": _var(tb, wb, "rad s-1", "angular velocity", "body frame (omega')"),
+        "acceleration": _var(tb, a[:, :, :3], "m s-2", "mass-centre acceleration", "world frame"),
+        "angular_acceleration": _var(
+            tb,
+            np.einsum("nbij,nbj->nbi", R, ab),
+            "rad s-2",
+            "angular acceleration",
+            "world frame, R omega'_dot",
+        ),
+        "angular_acceleration_body": _var(
+            tb, ab, "rad s-2", "angular acceleration", "body frame (omega'_dot)"
+        ),
+        "multiplier": _var(
+            ("time", "row"),
+            result.lam,
+            "mixed",
+            "Lagrange multiplier",
+            "N for point rows, N m for dot-1 rows; conjugate to each row's phi",
+        ),
+        "constraint_violation": _var(
+            ("time", "row"), result.phi, "mixed", "constraint violation phi", "m or 1, per row"
+        ),
+        "constraint_violation_rate": _var(
+            ("time", "row"),
+            result.phi_dot,
+            "mixed",
+            "constraint violation rate phi_dot",
+            "m s-1 or s-1, per row",
+        ),
+        "reaction_force": _var(
+            ("time", "block", "axis"),
+            result.reaction_force,
+            "N",
+            "joint reaction force",
+            "world frame, exerted by the joint on its reaction_body",
+        ),
+        "reaction_moment": _var(
+            ("time", "block", "axis"),
+            result.reaction_moment,
+            "N m",
+            "joint reaction moment",
+            "world frame, about the joint point, on reaction_body",
+        ),
+        "actuator_force": _var(
+            ("time", "driver_row"),
+            result.driver_force,
+            dunits[0] if len(set(dunits)) == 1 else "mixed",
+            "actuator force",
+            "F_act = -lam (scaled for squared distance drivers); units per row in driver_units",
+        ),
+    }
+    for key, val in result.energy.items():
+        dv[f"energy_{key}"] = _var(
+            ("time",),
+            np.asarray(val, dtype=float),
+            "J",
+            _ENERGY_NAMES.get(key, f"energy term {key}"),
+        )
+
+    nclr = len(result.clearance_names)
+    co = result.contact if result.contact is not None else np.zeros((n, nclr, NCOUT))
+    cs = result.contact_state if result.contact_state is not None else np.zeros((n, nclr, 2))
+    dis = result.dissipation if result.dissipation is not None else np.zeros((n, nclr, 2))
+    br = result.bristle if result.bristle is not None else np.zeros((n, nclr, 3))
+    tc, tca = ("time", "clearance"), ("time", "clearance", "axis")
+    flag = cs[:, :, 0]
+    if np.array_equal(flag, flag.astype(np.int8)):
+        flag = flag.astype(np.int8)
+    dv.update(
+        eccentricity=_var(
+            tca,
+            co[:, :, CO_E : CO_E + 3],
+            "m",
+            "eccentricity",
+            "ball centre relative to the socket centre, socket marker frame",
+        ),
+        penetration=_var(
+            tc, co[:, :, CO_DELTA], "m", "penetration", "delta = |e| - c (negative: free flight)"
+        ),
+        penetration_rate=_var(tc, co[:, :, CO_DDOT], "m s-1", "penetration rate delta_dot"),
+        contact_force=_var(tc, co[:, :, CO_FN], "N", "normal contact force magnitude F_N"),
+        elastic_force=_var(tc, co[:, :, CO_FEL], "N", "elastic part of F_N"),
+        contact_normal=_var(
+            tca, co[:, :, CO_N : CO_N + 3], "1", "contact normal n", "unit vector, world frame"
+        ),
+        normal_force=_var(
+            tca,
+            -co[:, :, CO_FN, None] * co[:, :, CO_N : CO_N + 3],
+            "N",
+            "normal contact force on the ball",
+            "-F_N n, world frame",
+        ),
+        friction_force=_var(
+            tca,
+            -co[:, :, CO_FT : CO_FT + 3],
+            "N",
+            "friction force on the ball",
+            "opposes slip, world frame",
+        ),
+        slip_velocity=_var(
+            tca,
+            co[:, :, CO_VT : CO_VT + 3],
+            "m s-1",
+            "tangential slip velocity",
+            "ball relative to socket, world frame",
+        ),
+        ball_centre=_var(tca, co[:, :, CO_PB : CO_PB + 3], "m", "ball centre", "world frame"),
+        contact_flag=_var(tc, flag, "1", "contact flag", "1 in contact (discrete state)"),
+        impact_velocity=_var(
+            tc,
+            cs[:, :, 1],
+            "m s-1",
+            "impact velocity",
+            "delta_dot at the last contact onset (floored)",
+        ),
+        dissipation_damping=_var(
+            tc, dis[:, :, 0], "J", "normal-damping dissipation D_n", "cumulative"
+        ),
+        dissipation_friction=_var(tc, dis[:, :, 1], "J", "friction work D_t", "cumulative"),
+        bristle=_var(tca, br, "m", "LuGre bristle deflection z", "world frame"),
+    )
+    ev = result.events if result.events is not None else np.zeros((0, 7))
+    jidx = ev[:, 1].astype(np.int64)
+    dv.update(
+        event_time=_var(("event",), ev[:, 0], "s", "event time"),
+        event_joint=_var(("event",), jidx, "1", "clearance joint index"),
+        event_clearance=_var(
+            ("event",),
+            _strings(result.clearance_names[k] for k in jidx),
+            "1",
+            "clearance joint name",
+        ),
+        event_kind=_var(
+            ("event",),
+            ev[:, 2].astype(np.int8),
+            "1",
+            "event kind",
+            "+1 contact onset, -1 separation",
+        ),
+        event_penetration_rate=_var(
+            ("event",),
+            ev[:, 3],
+            "m s-1",
+            "penetration rate at the event",
+            "impact velocity at onsets",
+        ),
+        event_eccentricity=_var(
+            ("event", "axis"), ev[:, 4:7], "m", "eccentricity at the event", "socket marker frame"
+        ),
+    )
+
+    cinfo = list(c.clearances)
+    coords = {
+        "time": _var(("time",), result.t, "s", "time"),
+        "body": _var(("body",), _strings(bodies), "1", "body name"),
+        "axis": _var(("axis",), _strings(AXIS), "1", "Cartesian axis"),
+        "quat": _var(("quat",), _strings(QUAT), "1", "Euler parameter"),
+        "row": _var(("row",), _strings(row_label), "1", "constraint row"),
+        "row_block": _var(("row",), _strings(row_block), "1", "joint or driver of the row"),
+        "row_kind": _var(("row",), _strings(row_kind), "1", "kind of the row's block"),
+        "block": _var(("block",), _strings(b.name for b in blocks), "1", "joint or driver"),
+        "block_kind": _var(("block",), _strings(b.kind for b in blocks), "1", "kind"),
+        "block_body_i": _var(("block",), _strings(b.body_i for b in blocks), "1", "body i"),
+        "block_body_j": _var(("block",), _strings(b.body_j for b in blocks), "1", "body j"),
+        "reaction_body": _var(
+            ("block",), _strings(result.reaction_body), "1", "body the reaction acts on"
+        ),
+        "driver_row": _var(("driver_row",), _strings(drow), "1", "actuator row"),
+        "driver": _var(("driver_row",), _strings(dnames), "1", "driver name"),
+        "driver_units": _var(("driver_row",), _strings(dunits), "1", "actuator force units"),
+        "clearance": _var(("clearance",), _strings(result.clearance_names), "1", "clearance joint"),
+        "clearance_socket_body": _var(
+            ("clearance",), _strings(i.socket_body for i in cinfo), "1", "body holding the socket"
+        ),
+        "clearance_ball_body": _var(
+            ("clearance",), _strings(i.ball_body for i in cinfo), "1", "body holding the ball"
+        ),
+        "radial_clearance": _var(
+            ("clearance",),
+            np.array([i.c for i in cinfo], dtype=float),
+            "m",
+            "radial clearance c = R_s - R_b",
+        ),
+        "ball_radius": _var(
+            ("clearance",), np.array([i.ball_radius for i in cinfo], float), "m", "ball radius R_b"
+        ),
+        "socket_radius": _var(
+            ("clearance",),
+            np.array([i.socket_radius for i in cinfo], float),
+            "m",
+            "socket radius R_s",
+        ),
+        "normal_law": _var(
+            ("clearance",), _strings(i.normal for i in cinfo), "1", "normal contact law"
+        ),
+        "friction_law": _var(
+            ("clearance",), _strings(i.friction for i in cinfo), "1", "friction law"
+        ),
+    }
+    at = {
+        "title": f"clearance simulation of {c.mechanism.name}",
+        "mechanism": c.mechanism.name,
+        "clearance_version": clearance.__version__,
+        "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "status": int(result.status),
+        "success": int(result.success),
+        "message": str(result.message),
+        "settings": json.dumps(result.settings, default=str),
+        "layout": c.describe(),
+    }
+    at.update({f"stats_{k}": val for k, val in result.stats.items()})
+    at.update(attrs or {})
+    return xr.Dataset(dv, coords=coords, attrs=clean_attrs(at))
+
+
+def rotation_matrices(p: np.ndarray) -> np.ndarray:
+    """(..., 4) Euler parameters -> (..., 3, 3) rotation matrices (normalised first)."""
+    p = p / np.linalg.norm(p, axis=-1, keepdims=True)
+    e0, e1, e2, e3 = np.moveaxis(p, -1, 0)
+    return (
+        np.stack(
+            [
+                np.stack([e0**2 + e1**2 - 0.5, e1 * e2 - e0 * e3, e1 * e3 + e0 * e2], -1),
+                np.stack([e1 * e2 + e0 * e3, e0**2 + e2**2 - 0.5, e2 * e3 - e0 * e1], -1),
+                np.stack([e1 * e3 - e0 * e2, e2 * e3 + e0 * e1, e0**2 + e3**2 - 0.5], -1),
+            ],
+            -2,
+        )
+        * 2.0
+    )
+
+
+def dataset_to_arrays(ds: xr.Dataset) -> dict:
+    """The `Result` arrays back from a dataset (same names and shapes as the `Result` fields).
+
+    Keys: t, q, v, a, lam, phi, phi_dot, reaction_force, reaction_moment, driver_force,
+    energy (dict), contact (n, nclr, NCOUT; the elastic/normal/friction columns restored),
+    contact_state, dissipation, bristle, events (nevents, 7), and the names body_names,
+    blocks, reaction_body, driver_names, clearance_names; status, message, settings (dict),
+    stats (dict).
+    """
+    n = ds.sizes["time"]
+    nb = ds.sizes["body"]
+    g = {k: np.asarray(ds[k].values) for k in ds.variables}
+    q = np.concatenate([g["position"], g["euler_parameters"]], axis=2).reshape(n, 7 * nb)
+    v = np.concatenate([g["velocity"], g["angular_velocity_body"]], axis=2).reshape(n, 6 * nb)
+    a = np.concatenate([g["acceleration"], g["angular_acceleration_body"]], axis=2)
+    nclr = ds.sizes["clearance"]
+    co = np.zeros((n, nclr, NCOUT))
+    co[:, :, CO_E : CO_E + 3] = g["eccentricity"]
+    co[:, :, CO_DELTA] = g["penetration"]
+    co[:, :, CO_DDOT] = g["penetration_rate"]
+    co[:, :, CO_FN] = g["contact_force"]
+    co[:, :, CO_FEL] = g["elastic_force"]
+    co[:, :, CO_N : CO_N + 3] = g["contact_normal"]
+    co[:, :, CO_FT : CO_FT + 3] = -g["friction_force"]
+    co[:, :, CO_VT : CO_VT + 3] = g["slip_velocity"]
+    co[:, :, CO_PB : CO_PB + 3] = g["ball_centre"]
+    ev = np.column_stack(
+        [
+            g["event_time"],
+            g["event_joint"].astype(float),
+            g["event_kind"].astype(float),
+            g["event_penetration_rate"],
+            g["event_eccentricity"].reshape(-1, 3),
+        ]
+    )
+    stats = {k[6:]: v for k, v in ds.attrs.items() if k.startswith("stats_")}
+    return dict(
+        t=g["time"],
+        q=q,
+        v=v,
+        a=a.reshape(n, 6 * nb),
+        lam=g["multiplier"],
+        phi=g["constraint_violation"],
+        phi_dot=g["constraint_violation_rate"],
+        reaction_force=g["reaction_force"],
+        reaction_moment=g["reaction_moment"],
+        driver_force=g["actuator_force"],
+        energy={k[7:]: g[k] for k in ds.data_vars if str(k).startswith("energy_")},
+        contact=co,
+        contact_state=np.stack([g["contact_flag"].astype(float), g["impact_velocity"]], axis=-1),
+        dissipation=np.stack([g["dissipation_damping"], g["dissipation_friction"]], axis=-1),
+        bristle=g["bristle"],
+        events=ev,
+        body_names=tuple(str(s) for s in g["body"]),
+        blocks=tuple(str(s) for s in g["block"]),
+        reaction_body=tuple(str(s) for s in g["reaction_body"]),
+        driver_names=tuple(str(s) for s in g["driver"]),
+        clearance_names=tuple(str(s) for s in g["clearance"]),
+        status=int(ds.attrs.get("status", 0)),
+        message=str(ds.attrs.get("message", "")),
+        settings=json.loads(ds.attrs.get("settings", "{}")),
+        stats=stats,
+    )
+
+
+# ----------------------------------------------------------------------------- NetCDF file
+class ResultFile(dict):
+    """`dict` group name -> Dataset, with the file's root attributes in `.attrs`."""
+
+    def __init__(self, *args, attrs: Mapping | None = None, **kw) -> None:
+        super().__init__(*args, **kw)
+        self.attrs = dict(attrs or {})
+
+
+def _check_group(name: str) -> str:
+    if not isinstance(name, str) or not name or "/" in name or name.startswith("."):
+        raise ValueError(f"invalid group name {name!r}: a non-empty name without '/'")
+    return name
+
+
+def save_results(
+    path: str | os.PathLike,
+    datasets: Mapping[str, xr.Dataset | Result],
+    *,
+    attrs: Mapping | None = None,
+) -> Path:
+    """Write `datasets` (group name -> Dataset) to ONE NetCDF4 file, atomically.
+
+    A `Result` value is converted with `result_to_dataset` first (no extra attrs).
+    Each dataset becomes a group; the root holds `attrs` plus clearance_version, created and
+    groups (JSON list of the group names, in order). Data variables are zlib-compressed.
+    If anything fails, an existing file at `path` is left as it was.
+    """
+    import clearance
+
+    names = [_check_group(k) for k in datasets]
+    root = {
+        "clearance_version": clearance.__version__,
+        "created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "groups": json.dumps(names),
+    }
+    root.update(attrs or {})
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        xr.Dataset(attrs=clean_attrs(root)).to_netcdf(tmp, mode="w", engine=ENGINE)
+        for name in names:
+            ds = datasets[name]
+            ds = result_to_dataset(ds) if isinstance(ds, Result) else ds.copy()
+            ds.attrs = clean_attrs(ds.attrs)
+            enc = {
+                k: {"zlib": True, "complevel": 4}
+                for k, var in ds.data_vars.items()
+                if var.size and var.dtype.kind in "iuf"
+            }
+            ds.to_netcdf(tmp, mode="a", group=name, engine=ENGINE, encoding=enc)
+    return path
+
+
+def load_results(path: str | os.PathLike) -> ResultFile:
+    """Read a file written by `save_results`: {group: Dataset} (loaded into memory) + .attrs."""
+    import h5netcdf
+
+    path = Path(path)
+    root = xr.load_dataset(path, engine=ENGINE)
+    attrs = dict(root.attrs)
+    with h5netcdf.File(path, "r") as f:
+        present = list(f.groups)
+    try:
+        order = [g for g in json.loads(attrs.get("groups", "[]")) if g in present]
+    except (TypeError, ValueError):
+        order = []
+    order += [g for g in present if g not in order]
+    out = ResultFile(attrs=attrs)
+    for g in order:
+        out[g] = xr.load_dataset(path, group=g, engine=ENGINE)
+    return out
+
+
+from clearance.io.export import export_csv, export_mat  # noqa: E402  (re-export)
+
+__all__ = [
+    "AXIS",
+    "QUAT",
+    "ResultFile",
+    "atomic_path",
+    "clean_attrs",
+    "dataset_to_arrays",
+    "export_csv",
+    "export_mat",
+    "load_results",
+    "result_to_dataset",
+    "rotation_matrices",
+    "save_results",
+]

@@ -1,0 +1,23 @@
+"""Figures from saved results (never simulates): see `clearance.plot.figures`."""
+
+from clearance.plot.figures import (
+    platform_motion,
+    plot_actuator_forces,
+    plot_all,
+    plot_ball_trajectory,
+    plot_contact_force,
+    plot_platform,
+    rotation_vector,
+    save_figure,
+)
+
+__all__ = [
+    "platform_motion",
+    "plot_actuator_forces",
+    "plot_all",
+    "plot_ball_trajectory",
+    "plot_contact_force",
+    "plot_platform",
+    "rotation_vector",
+    "save_figure",
+]

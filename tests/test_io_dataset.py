@@ -1,0 +1,290 @@
+"""Results as xarray datasets: NetCDF (groups, atomic), CSV and MAT round trips."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+
+import numpy as np
+import pytest
+import scipy.io
+import xarray as xr
+
+import clearance
+from clearance.io.dataset import (
+    clean_attrs,
+    dataset_to_arrays,
+    export_csv,
+    export_mat,
+    load_results,
+    result_to_dataset,
+    save_results,
+)
+from clearance.mechanisms.ups_upu import ups_upu_ideal
+
+T_END, DT_OUT = 0.03, 2e-4
+SCENARIO = 'name = "test"\n[clearance]\njoints = ["S_1"]\nc = 0.3e-3\n'
+
+
+@pytest.fixture(scope="module")
+def results():
+    m = ups_upu_ideal()
+    law = clearance.Clearance(
+        ball_radius=0.015,
+        radial_clearance=0.3e-3,
+        normal=clearance.Flores(),
+        friction=clearance.LuGre(),
+    )
+    mc = m.with_clearance("S_1", law)
+    ri = clearance.simulate(m, T_END, dt_out=DT_OUT)
+    rc = clearance.simulate(mc, T_END, dt_out=DT_OUT)
+    assert ri.success and rc.success
+    assert len(rc.events) > 0  # the short run must contain impacts
+    return {"ideal": ri, "clearance": rc}
+
+
+@pytest.fixture(scope="module")
+def datasets(results):
+    return {k: result_to_dataset(r, attrs={"scenario": SCENARIO}) for k, r in results.items()}
+
+
+@pytest.fixture
+def saved(tmp_path, datasets):
+    path = tmp_path / "run" / "results.nc"
+    save_results(path, datasets, attrs={"scenario": SCENARIO, "flag": True})
+    return path
+
+
+def _numeric(da: xr.DataArray) -> bool:
+    return da.dtype.kind in "iuf"
+
+
+# ----------------------------------------------------------------------------- the dataset
+def test_dataset_layout(results, datasets):
+    ds = datasets["clearance"]
+    r = results["clearance"]
+    for d in ("time", "body", "axis", "quat", "row", "block", "driver_row", "clearance", "event"):
+        assert d in ds.dims
+    assert list(ds["body"].values) == list(r.compiled.body_names)
+    assert list(ds["axis"].values) == ["x", "y", "z"]
+    assert list(ds["quat"].values) == ["e0", "e1", "e2", "e3"]
+    assert list(ds["block"].values) == list(r.blocks)
+    assert list(ds["driver"].values) == list(r.driver_names)
+    assert list(ds["clearance"].values) == ["S_1"]
+    assert ds.sizes["row"] == r.lam.shape[1]
+    assert ds.sizes["event"] == len(r.events)
+    assert float(ds["radial_clearance"].sel(clearance="S_1")) == 0.3e-3
+    for name, var in ds.variables.items():
+        assert "units" in var.attrs, name
+        assert var.attrs.get("long_name"), name
+    assert ds["position"].attrs["units"] == "m"
+    assert ds["actuator_force"].attrs["units"] == "N"
+    assert ds["eccentricity"].dims == ("time", "clearance", "axis")
+    for key in r.energy:
+        assert ds[f"energy_{key}"].attrs["units"] == "J"
+    at = ds.attrs
+    assert at["clearance_version"] == clearance.__version__
+    assert at["layout"] == r.compiled.describe()
+    assert at["scenario"] == SCENARIO
+    assert at["status"] == 0 and at["success"] == 1
+    assert json.loads(at["settings"])["method"] == r.settings["method"]
+    assert at["stats_nfev"] == r.stats["nfev"]
+
+
+def test_accessors_match_result(results, datasets):
+    r, ds = results["clearance"], datasets["clearance"]
+    p = ds.sel(body="platform")
+    np.testing.assert_array_equal(p["position"].values, r.position("platform"))
+    np.testing.assert_allclose(
+        p["angular_velocity"].values, r.angular_velocity("platform"), rtol=1e-12, atol=1e-15
+    )
+    np.testing.assert_array_equal(
+        p["angular_velocity_body"].values, r.angular_velocity("platform", frame="body")
+    )
+    c = ds.sel(clearance="S_1")
+    np.testing.assert_array_equal(c["eccentricity"].values, r.eccentricity("S_1"))
+    np.testing.assert_array_equal(c["contact_force"].values, r.contact_force("S_1"))
+    np.testing.assert_array_equal(c["normal_force"].values, r.normal_force("S_1"))
+    np.testing.assert_array_equal(c["friction_force"].values, r.friction_force("S_1"))
+    np.testing.assert_array_equal(c["slip_velocity"].values, r.slip_velocity("S_1"))
+    np.testing.assert_array_equal(
+        ds["actuator_force"].sel(driver_row="drive_3").values, r.actuator_force("drive_3")
+    )
+    f, mo = r.reaction("S_2")
+    np.testing.assert_array_equal(ds["reaction_force"].sel(block="S_2").values, f)
+    np.testing.assert_array_equal(ds["reaction_moment"].sel(block="S_2").values, mo)
+    assert (ds["event_kind"].values == r.events[:, 2]).all()
+
+
+@pytest.mark.parametrize("group", ["ideal", "clearance"])
+def test_dataset_to_arrays_restores_result(results, datasets, group):
+    r = results[group]
+    arr = dataset_to_arrays(datasets[group])
+    for k in (
+        "t q v a lam phi phi_dot reaction_force reaction_moment driver_force "
+        "contact contact_state dissipation bristle events"
+    ).split():
+        np.testing.assert_array_equal(arr[k], getattr(r, k), err_msg=k)
+    assert arr["energy"].keys() == r.energy.keys()
+    for k, v in r.energy.items():
+        np.testing.assert_array_equal(arr["energy"][k], v)
+    for k in ("blocks", "reaction_body", "driver_names", "clearance_names"):
+        assert arr[k] == tuple(getattr(r, k)), k
+    assert arr["stats"] == r.stats
+    assert arr["status"] == r.status and arr["message"] == r.message
+
+
+def test_clean_attrs():
+    out = clean_attrs({"b": True, "n": None, "d": {"a": 1}, "v": [1.0, 2.0], "s": "x", "i": 3})
+    assert out["b"] == 1 and out["s"] == "x" and out["i"] == 3
+    assert json.loads(out["d"]) == {"a": 1} and out["n"] == "null"
+    np.testing.assert_array_equal(out["v"], [1.0, 2.0])
+
+
+# ----------------------------------------------------------------------------- NetCDF
+def test_netcdf_roundtrip(saved, datasets):
+    files = load_results(saved)
+    assert list(files) == ["ideal", "clearance"]
+    for g, ds in datasets.items():
+        back = files[g]
+        assert back.identical(ds), g  # every variable, coordinate and attribute
+        assert set(back.variables) == set(ds.variables)
+    assert files.attrs["scenario"] == SCENARIO
+    assert files.attrs["flag"] == 1
+    assert files.attrs["clearance_version"] == clearance.__version__
+    assert json.loads(files.attrs["groups"]) == ["ideal", "clearance"]
+    assert files["ideal"].sizes["clearance"] == 0  # ideal run: empty clearance channels
+    assert files["ideal"].sizes["event"] == 0
+    assert sorted(os.listdir(saved.parent)) == ["results.nc"]  # no temporary file left
+
+
+def test_netcdf_write_is_atomic(saved, datasets, monkeypatch):
+    before = saved.read_bytes()
+    calls = {"n": 0}
+    real = xr.Dataset.to_netcdf
+
+    def failing(self, *args, **kw):
+        calls["n"] += 1
+        if kw.get("group") == "clearance":
+            raise RuntimeError("disk full (simulated)")
+        return real(self, *args, **kw)
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", failing)
+    with pytest.raises(RuntimeError, match="simulated"):
+        save_results(saved, datasets)
+    assert calls["n"] >= 2  # the failure came after part of the file was written
+    assert saved.read_bytes() == before  # the old file is intact
+    assert sorted(os.listdir(saved.parent)) == ["results.nc"]
+    fresh = saved.parent / "new.nc"
+    with pytest.raises(RuntimeError):
+        save_results(fresh, datasets)
+    assert not fresh.exists()
+    assert sorted(os.listdir(saved.parent)) == ["results.nc"]
+    monkeypatch.undo()
+    assert load_results(saved)["clearance"].identical(datasets["clearance"])
+
+
+def test_group_names_validated(tmp_path, datasets):
+    with pytest.raises(ValueError, match="group"):
+        save_results(tmp_path / "x.nc", {"a/b": datasets["ideal"]})
+    assert not any(tmp_path.iterdir())
+
+
+# ----------------------------------------------------------------------------- CSV
+def _read_csv(path):
+    with open(path, newline="", encoding="utf-8") as fh:
+        rows = list(csv.reader(fh))
+    return rows[0], rows[1:]
+
+
+def test_csv_roundtrip(saved, datasets, tmp_path):
+    out = tmp_path / "csv"
+    paths = export_csv(saved, out)
+    names = [p.name for p in paths]
+    assert names == [
+        "results_ideal.csv",
+        "results_ideal_events.csv",
+        "results_clearance.csv",
+        "results_clearance_events.csv",
+        "results_metadata.csv",
+    ]
+    assert sorted(os.listdir(out)) == sorted(names)
+    for g, ds in datasets.items():
+        header, rows = _read_csv(out / f"results_{g}.csv")
+        assert len(header) == len(set(header))
+        cols = {h: np.array([float(r[i]) for r in rows]) for i, h in enumerate(header)}
+        assert len(rows) == ds.sizes["time"]
+        np.testing.assert_array_equal(cols["time [s]"], ds["time"].values)
+        n = 1
+        for k, da in ds.data_vars.items():
+            if "time" not in da.dims or not _numeric(da):
+                continue
+            flat = da.transpose("time", ...).values.reshape(ds.sizes["time"], -1)
+            mine = [h for h in header if h.split(" [")[0].split(".")[0] == k]
+            assert len(mine) == flat.shape[1], k
+            for j, h in enumerate(mine):
+                np.testing.assert_array_equal(cols[h], flat[:, j], err_msg=h)  # exact
+            n += len(mine)
+        assert n == len(header)
+    header, _ = _read_csv(out / "results_clearance.csv")
+    for h in (
+        "position.platform.x [m]",
+        "euler_parameters.platform.e0 [1]",
+        "angular_velocity.platform.z [rad s-1]",
+        "actuator_force.drive_1 [N]",
+        "reaction_force.S_2.z [N]",
+        "multiplier.U_1[0] [mixed]",
+        "eccentricity.S_1.x [m]",
+        "contact_force.S_1 [N]",
+        "energy_kinetic [J]",
+    ):
+        assert h in header, h
+    header, rows = _read_csv(out / "results_clearance_events.csv")
+    ev = datasets["clearance"]
+    assert len(rows) == ev.sizes["event"] > 0
+    t = np.array([float(r[header.index("event_time [s]")]) for r in rows])
+    np.testing.assert_array_equal(t, ev["event_time"].values)
+    assert [r[header.index("event_clearance")] for r in rows] == list(ev["event_clearance"].values)
+    ez = np.array([float(r[header.index("event_eccentricity.z [m]")]) for r in rows])
+    np.testing.assert_array_equal(ez, ev["event_eccentricity"].sel(axis="z").values)
+    header, rows = _read_csv(out / "results_ideal_events.csv")
+    assert rows == [] and "event_time [s]" in header
+    header, rows = _read_csv(out / "results_metadata.csv")
+    assert header == ["group", "name", "value"]
+    meta = {(g, k): v for g, k, v in rows}
+    assert meta[("", "scenario")] == SCENARIO  # multi-line value survives quoting
+    assert float(meta[("clearance", "radial_clearance.S_1 [m]")]) == 0.3e-3
+    assert meta[("clearance", "layout")] == datasets["clearance"].attrs["layout"]
+
+
+# ----------------------------------------------------------------------------- MAT
+def test_mat_roundtrip(saved, datasets, tmp_path):
+    out = export_mat(saved, tmp_path / "mat" / "results.mat")
+    assert sorted(os.listdir(out.parent)) == ["results.mat"]
+    m = scipy.io.loadmat(out, squeeze_me=False, struct_as_record=True)
+    assert [str(np.ravel(g)[0]) for g in m["groups"].ravel()] == ["ideal", "clearance"]
+    assert str(m["attrs"]["scenario"][0, 0][0]) == SCENARIO
+    for g, ds in datasets.items():
+        s = m[g][0, 0]
+        for k, var in ds.variables.items():
+            got = s[k]
+            want = var.values
+            if _numeric(var):
+                shape = want.shape if want.ndim != 1 else (want.size, 1)
+                assert got.shape == shape or (want.size == 0 and got.size == 0), k
+                np.testing.assert_array_equal(got.reshape(want.shape), want, err_msg=k)
+            else:
+                labels = [str(np.ravel(c)[0]) if np.size(c) else "" for c in got.ravel()]
+                assert labels == [str(x) for x in want.ravel()], k
+            assert str(s["units"][k][0, 0][0]) == var.attrs["units"], k
+            assert str(s["dims"][k][0, 0][0]) == ",".join(var.dims), k
+        assert str(s["attrs"]["layout"][0, 0][0]) == ds.attrs["layout"]
+        assert str(s["attrs"]["stats_nfev"][0, 0][0]) == str(ds.attrs["stats_nfev"])
+
+
+def test_save_results_accepts_a_result(results, datasets, tmp_path):
+    path = save_results(tmp_path / "r.nc", {"ideal": results["ideal"]})
+    back = load_results(path)["ideal"]
+    assert back.equals(datasets["ideal"])  # same variables, coordinates and values
+    assert back.attrs["layout"] == datasets["ideal"].attrs["layout"]
