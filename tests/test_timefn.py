@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import BPoly, CubicSpline
 
 from clearance.kinematics.timefn import encode_functions, eval_all, eval_timefn
 from clearance.model.errors import ModelError
@@ -21,6 +21,7 @@ from clearance.model.functions import (
     SPLINE_BC_TYPES,
     Constant,
     FnKind,
+    HermiteSpline,
     Polynomial,
     Ramp,
     Scaled,
@@ -113,7 +114,37 @@ def tabulated(draw: st.DrawFn) -> Case:
     return Case(fn, (s0, s1, s2), 6 * np.max(np.abs(c[0])), 0.0, tuple(x))
 
 
-leaves = st.one_of(constants(), polynomials(), sinusoids(), ramps(), tabulated())
+def _pp_case(fn: HermiteSpline) -> Case:
+    """Bounds from the power-basis coefficients: c[j, i] multiplies u^(k - j), u <= h_i."""
+    c, x = fn._pp.c, np.array(fn.times)
+    h = np.diff(x)
+    k = c.shape[0] - 1
+
+    def bound(d: int) -> float:
+        return float(
+            np.max(
+                sum(
+                    math.perm(k - j, d) * np.abs(c[j]) * h ** max(k - j - d, 0)
+                    for j in range(k + 1)
+                    if k - j >= d
+                )
+            )
+        )
+
+    return Case(fn, (bound(0), bound(1), bound(2)), bound(3), bound(4), tuple(x))
+
+
+@st.composite
+def hermite(draw: st.DrawFn) -> Case:
+    gaps = draw(st.lists(fl(0.2, 1.0), min_size=1, max_size=6))
+    x = np.concatenate([[draw(fl(-2.5, 0.0))], gaps]).cumsum()
+    n = x.size
+    y, d1 = (draw(st.lists(real, min_size=n, max_size=n)) for _ in range(2))
+    d2 = draw(st.one_of(st.none(), st.lists(real, min_size=n, max_size=n)))
+    return _pp_case(HermiteSpline(tuple(x), y, d1, d2))
+
+
+leaves = st.one_of(constants(), polynomials(), sinusoids(), ramps(), tabulated(), hermite())
 
 
 @st.composite
@@ -233,7 +264,7 @@ def test_tabulated_reproduces_cubic_and_holds_ends() -> None:
 
 
 def test_encoding_layout() -> None:
-    assert [int(k) for k in FnKind] == [0, 1, 2, 3, 4, 5]
+    assert [int(k) for k in FnKind] == [0, 1, 2, 3, 4, 5, 6]
     fns = [Constant(3), Ramp(0, 1, 0, 1, "cosine"), Tabulated([0, 1, 3], [0, 1, 0])]
     fn_kind, fn_ptr, fn_data = encode_functions(fns)
     assert fn_kind.dtype == np.int64 and fn_ptr.dtype == np.int64 and fn_data.dtype == float
@@ -299,6 +330,121 @@ fns = [Constant(1), Polynomial([1, -2, 3], 0.5), Sinusoid(2, 3, 0.1, 1), Ramp(0,
 enc = encode_functions(fns)
 fval = np.zeros((len(fns), 3))
 for t in (-1.0, 0.3, 0.5, 1.7, 5.0):
+    eval_all(*enc, t, fval)
+    ref = np.array([f.derivatives(t) for f in fns])
+    assert np.allclose(fval, ref, rtol=1e-12, atol=1e-12), (t, fval, ref)
+print("ok")
+"""
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "ok"
+
+
+# ------------------------------------------------------------------ HermiteSpline (PPOLY)
+def _hermite_atol(case: Case, nu: int) -> float:
+    """Rounding scale of the nu-th derivative: the power-basis conversion spreads a few eps of
+    every coefficient over the segment, amplified by 1 / h^nu (h >= 0.2 s here)."""
+    h = float(np.min(np.diff(case.fn.times)))
+    return 1e-11 * sum(case.s) / h**nu
+
+
+@settings(max_examples=200, deadline=None)
+@given(hermite(), fl(0.0, 1.0))
+def test_hermite_matches_scipy(case: Case, frac: float) -> None:
+    """Python and compiled evaluation equal scipy's own BPoly.from_derivatives (before the
+    power-basis conversion) to rounding, for f, f_dot and f_ddot."""
+    fn = case.fn
+    assert isinstance(fn, HermiteSpline)
+    t = min(fn.times[0] + frac * (fn.times[-1] - fn.times[0]), fn.times[-1])
+    cols = [fn.values, fn.d1] + ([fn.d2] if fn.d2 is not None else [])
+    bp = BPoly.from_derivatives(np.array(fn.times), np.column_stack(cols))
+    kind, data = fn.encode()
+    assert kind == FnKind.PPOLY
+    got = eval_timefn(kind, data, 0, data.size, t)
+    for nu in range(3):
+        want = float(bp(t, nu))
+        tol = _hermite_atol(case, nu)
+        assert fn.derivatives(t)[nu] == pytest.approx(want, rel=1e-11, abs=tol)
+        assert got[nu] == pytest.approx(want, rel=1e-11, abs=tol)
+
+
+@settings(max_examples=100, deadline=None)
+@given(hermite())
+def test_hermite_interpolates_knot_data(case: Case) -> None:
+    """Values, first and (quintic) second derivatives at every knot, to rounding; C2."""
+    fn = case.fn
+    assert isinstance(fn, HermiteSpline)
+    kind, data = fn.encode()
+    nd = 3 if fn.d2 is not None else 2
+    assert fn.degree == 2 * nd - 1
+    for i, t in enumerate(fn.times):
+        want = (fn.values[i], fn.d1[i], fn.d2[i] if fn.d2 is not None else None)
+        for got in (fn.derivatives(t), eval_timefn(kind, data, 0, data.size, t)):
+            for nu in range(nd):
+                assert got[nu] == pytest.approx(want[nu], rel=1e-11, abs=_hermite_atol(case, nu))
+    # continuity of f'' across interior knots (C2 quintic; the cubic is only C1)
+    for t in fn.times[1:-1]:
+        lo, hi = fn._pp(t - 1e-12, 2), fn._pp(t + 1e-12, 2)
+        if fn.d2 is not None:
+            tol = _hermite_atol(case, 2) + 4e-12 * case.m3  # f''' over the 2e-12 s gap
+            assert float(lo) == pytest.approx(float(hi), rel=1e-8, abs=tol)
+
+
+def test_hermite_reproduces_quintic_and_holds_ends() -> None:
+    """Exact on a single quintic polynomial (any knots); end value held outside the range."""
+    p = np.polynomial.Polynomial([0.3, -1.0, 0.5, 2.0, -0.7, 0.2])
+    x = np.array([0.0, 0.3, 1.1, 2.0])
+    fn = HermiteSpline(x, p(x), p.deriv(1)(x), p.deriv(2)(x))
+    kind, data = fn.encode()
+    assert data[:2].tolist() == [3.0, 5.0] and data.size == 2 + 4 + 3 * 6
+    for t in (0.0, 0.1, 0.7, 1.5, 2.0):
+        want = (p(t), p.deriv(1)(t), p.deriv(2)(t))
+        assert fn.derivatives(t) == pytest.approx(want, rel=1e-12, abs=1e-12)
+        assert eval_timefn(kind, data, 0, data.size, t) == pytest.approx(want, rel=1e-12, abs=1e-12)
+    assert fn.derivatives(-1.0) == pytest.approx((p(0.0), 0.0, 0.0), abs=1e-14)
+    assert eval_timefn(kind, data, 0, data.size, 3.0) == pytest.approx((p(2.0), 0.0, 0.0))
+    # d2 = None: the cubic Hermite (C1) reproduces a cubic
+    q = np.polynomial.Polynomial([1.0, -2.0, 0.5, 0.25])
+    cub = HermiteSpline(x, q(x), q.deriv(1)(x), None)
+    assert cub.degree == 3
+    assert cub.derivatives(1.4) == pytest.approx((q(1.4), q.deriv(1)(1.4), q.deriv(2)(1.4)))
+    # immutable, hashable, usable in sums and as a driver function (compiled through SUM)
+    same = HermiteSpline(tuple(x), tuple(p(x)), tuple(p.deriv(1)(x)), tuple(p.deriv(2)(x)))
+    assert fn == same and hash(fn) == hash(same) and fn != cub
+    enc = encode_functions([Scaled(fn, 2.0, 1.0)])
+    fval = np.zeros((1, 3))
+    eval_all(*enc, 0.7, fval)
+    assert fval[0] == pytest.approx([2 * p(0.7) + 1, 2 * p.deriv(1)(0.7), 2 * p.deriv(2)(0.7)])
+
+
+@pytest.mark.parametrize(
+    ("make", "field", "value"),
+    [
+        (lambda: HermiteSpline([0, 1, 1], [0, 1, 2], [0, 0, 0], None), "times[2]", "1.0"),
+        (lambda: HermiteSpline([0, 1], [0, 1, 2], [0, 0], None), "values", "[0, 1, 2]"),
+        (lambda: HermiteSpline([0, 1], [0, 1], [0], None), "d1", "[0]"),
+        (lambda: HermiteSpline([0, 1], [0, 1], [0, 0], [0, 0, 1]), "d2", "[0, 0, 1]"),
+        (lambda: HermiteSpline([0, 1], [0, 1], [0, float("nan")], None), "d1[1]", "nan"),
+        (lambda: HermiteSpline([0], [0], [0], [0]), "times", "[0]"),
+    ],
+)
+def test_hermite_validation(make, field: str, value: str) -> None:
+    with pytest.raises(ModelError) as err:
+        make()
+    assert f"'{field}'" in str(err.value) and value in str(err.value)
+
+
+def test_hermite_runs_without_jit() -> None:
+    code = """
+import numpy as np
+from clearance.kinematics.timefn import encode_functions, eval_all
+from clearance.model.functions import HermiteSpline
+x = np.array([0.0, 0.4, 1.0, 1.3])
+fns = [HermiteSpline(x, np.sin(x), np.cos(x), -np.sin(x)), HermiteSpline(x, x**2, 2 * x, None)]
+enc = encode_functions(fns)
+fval = np.zeros((2, 3))
+for t in (-1.0, 0.0, 0.3, 0.4, 1.29, 1.3, 2.0):
     eval_all(*enc, t, fval)
     ref = np.array([f.derivatives(t) for f in fns])
     assert np.allclose(fval, ref, rtol=1e-12, atol=1e-12), (t, fval, ref)

@@ -12,6 +12,9 @@ Per-kind layouts (see FnKind):
     TABULATED   [m, x_0..x_m, (c3, c2, c1, c0) for each of the m segments]
                 f = c3 u^3 + c2 u^2 + c1 u + c0 with u = t - x_i on [x_i, x_{i+1}]; the end
                 value is held with zero derivatives outside [x_0, x_m]
+    PPOLY       [m, k, x_0..x_m, (c_k, ..., c_0) for each of the m segments]
+                f = sum c_j u^j (degree k) with u = t - x_i on [x_i, x_{i+1}]; the end
+                value is held with zero derivatives outside [x_0, x_m] (HermiteSpline)
     SUM         [offset, n_terms, (kind, weight, length, leaf data) per term]
                 f = offset + sum weight * leaf(t); leaves are never SUM
 
@@ -35,6 +38,7 @@ _SINUSOID = int(FnKind.SINUSOID)
 _RAMP = int(FnKind.RAMP)
 _TABULATED = int(FnKind.TABULATED)
 _SUM = int(FnKind.SUM)
+_PPOLY = int(FnKind.PPOLY)
 
 
 def encode_functions(
@@ -120,6 +124,29 @@ def _eval_leaf(kind: int, data: np.ndarray, start: int, stop: int, t: float):
         if tc != t:
             return f, 0.0, 0.0
         return f, (3.0 * c3 * u + 2.0 * c2) * u + c1, 6.0 * c3 * u + 2.0 * c2
+    if kind == _PPOLY:
+        m = int(data[start])
+        k = int(data[start + 1])
+        xb = start + 2  # breakpoints x_0..x_m
+        cb = xb + m + 1  # coefficients, k + 1 per segment, highest power first
+        tc = min(max(t, data[xb]), data[xb + m])
+        lo, hi = 0, m - 1
+        while lo < hi:
+            mid = (lo + hi + 1) // 2
+            if data[xb + mid] <= tc:
+                lo = mid
+            else:
+                hi = mid - 1
+        u = tc - data[xb + lo]
+        f = fd = fdd = 0.0
+        c0 = cb + (k + 1) * lo
+        for j in range(c0, c0 + k + 1):  # Horner for f, f', f'' together
+            fdd = fdd * u + 2.0 * fd
+            fd = fd * u + f
+            f = f * u + data[j]
+        if tc != t:
+            return f, 0.0, 0.0
+        return f, fd, fdd
     raise ValueError("unknown time-function kind")
 
 

@@ -18,7 +18,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 import numpy.polynomial.polynomial as npoly
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import BPoly, CubicSpline, PPoly
 
 from clearance.model.errors import ModelError
 
@@ -32,6 +32,7 @@ class FnKind(IntEnum):
     RAMP = 3  # [start_value, end_value, t_start, t_end, profile code (RAMP_PROFILES index)]
     TABULATED = 4  # [m, x_0..x_m, then per segment i: c3, c2, c1, c0 of sum c_k (t - x_i)^k]
     SUM = 5  # [offset, n_terms, then per term: kind, weight, length, leaf data...]
+    PPOLY = 6  # [m, k, x_0..x_m, then per segment i: c_k..c_0 of sum c_j (t - x_i)^j]
 
 
 RAMP_PROFILES = ("quintic", "cycloidal", "cosine")
@@ -249,6 +250,65 @@ class Tabulated(TimeFunction):
     def _leaf_data(self) -> np.ndarray:
         cs = self._spline  # cs.c[k, i] multiplies (t - x_i)^(3 - k)
         return np.concatenate([[cs.c.shape[1]], cs.x, cs.c.T.ravel()])
+
+
+@dataclass(frozen=True)
+class HermiteSpline(TimeFunction):
+    """Piecewise Hermite interpolation of values and derivatives at strictly increasing times.
+
+    On each interval [t_i, t_(i+1)] f is the polynomial of degree 5 that takes the given
+    value, first and second derivative at both ends (degree 3 and values plus first
+    derivatives only if d2 is None), so f is C2 (C1) and reproduces the knot data exactly up
+    to rounding. Built with scipy `BPoly.from_derivatives` and converted to the local power
+    basis (`PPoly.from_bernstein_basis`); encoded as the general FnKind.PPOLY (any degree).
+    Units: values in the units of f, d1 per second, d2 per second squared.
+
+    Outside [times[0], times[-1]] the end value is held with zero derivatives (as for
+    `Tabulated`), so f_dot and f_ddot jump there unless the data already end at rest.
+    Used for the actuator histories of the inverse kinematics (physics.md e.2 step 5).
+    """
+
+    times: tuple[float, ...]
+    values: tuple[float, ...]
+    d1: tuple[float, ...]
+    d2: tuple[float, ...] | None = None
+    kind: ClassVar[FnKind] = FnKind.PPOLY
+    _pp: Any = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        who = "HermiteSpline"
+        x = _reals(who, "times", self.times, 2)
+        for i in range(1, len(x)):
+            if not x[i] > x[i - 1]:
+                raise ModelError(who, f"times[{i}]", x[i], "times must strictly increase")
+        cols = [_reals(who, "values", self.values, 2), _reals(who, "d1", self.d1, 2)]
+        if self.d2 is not None:
+            cols.append(_reals(who, "d2", self.d2, 2))
+        for name, col in zip(("values", "d1", "d2"), cols, strict=False):
+            if len(col) != len(x):
+                raise ModelError(who, name, getattr(self, name), f"expected {len(x)} values")
+        object.__setattr__(self, "times", x)
+        object.__setattr__(self, "values", cols[0])
+        object.__setattr__(self, "d1", cols[1])
+        object.__setattr__(self, "d2", cols[2] if self.d2 is not None else None)
+        bp = BPoly.from_derivatives(np.array(x), np.column_stack(cols))
+        object.__setattr__(self, "_pp", PPoly.from_bernstein_basis(bp))
+
+    @property
+    def degree(self) -> int:
+        return int(self._pp.c.shape[0]) - 1
+
+    def derivatives(self, t: float) -> tuple[float, float, float]:
+        tc = min(max(t, self.times[0]), self.times[-1])
+        f = float(self._pp(tc))
+        if tc != t:
+            return f, 0.0, 0.0
+        return f, float(self._pp(tc, 1)), float(self._pp(tc, 2))
+
+    def _leaf_data(self) -> np.ndarray:
+        pp = self._pp  # pp.c[j, i] multiplies (t - x_i)^(k - j)
+        m, k = pp.c.shape[1], pp.c.shape[0] - 1
+        return np.concatenate([[m, k], pp.x, pp.c.T.ravel()])
 
 
 @dataclass(frozen=True)
