@@ -108,5 +108,20 @@ def describe(example: str = typer.Argument(..., help="example mechanism")) -> No
     typer.echo(str(rank_check(comp, 0.0, assemble(comp))))
 
 
+@app.command()
+def check(file: Path = typer.Argument(..., help="scenario file (TOML)")) -> None:
+    """Validate a scenario file without running it (exit 0: valid; 2: errors on stderr)."""
+    from clearance.scenario import BUILDERS, ScenarioError, load_scenario
+
+    try:
+        s = load_scenario(file)
+    except ScenarioError as e:
+        for line in e.lines():
+            typer.echo(line, err=True)
+        raise typer.Exit(2) from None
+    note = "" if s.mechanism.type in BUILDERS else " (validates; no builder in this version)"
+    typer.echo(f"OK {file}: {s.summary()}{note}")
+
+
 def main() -> None:  # pragma: no cover
     sys.exit(app())

@@ -25,8 +25,9 @@ Topology (ground z up, origin at the base centre; all joints ideal)::
 
 Rows: 4 x (4 + 5 + 3) + (4 + 5 + 4) = 61 joint rows + 5 drivers = 66 = 6 x 11: DOF 0.
 
-Parameters: the PROPOSED reconstruction of mechanisms.md 1.4 with the NON-singular layout
-(base angles 45, 135, 225, 315 deg; platform angles 75, 165, 195, 285 deg). Body frames:
+Parameters (`UpsUpuParams`, every field overridable and validated): the PROPOSED
+reconstruction of mechanisms.md 1.4 with the NON-singular layout (base angles 45, 135, 225,
+315 deg; platform angles 75, 165, 195, 285 deg). Body frames:
 every rod has its axis as body z (pointing from A_k to B_k), the platform is aligned with
 the world at home. Initial poses are the exact home pose; `clearance.assemble` polishes them
 at t = 0 if the drives do not start at the home lengths.
@@ -35,10 +36,20 @@ at t = 0 if the drives do not start at the home lengths.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import ClassVar
 
 import numpy as np
 
+from clearance.mechanisms.params import (
+    BASE_ANGLES_DEG,
+    DISC_INERTIA,
+    PLATFORM_ANGLES_DEG,
+    ParamSet,
+    param,
+)
 from clearance.model import (
     GROUND,
     Body,
@@ -53,43 +64,87 @@ from clearance.model import (
 )
 from clearance.model.functions import Sinusoid, as_function
 
-__all__ = ["UPS_UPU_PARAMS", "home_leg_lengths", "ups_upu_ideal"]
-
-# mechanisms.md 1.4 (PROPOSED reconstruction). Lengths m, masses kg, inertias kg m^2 about
-# the mass centre in body components (rod axis = body z).
-UPS_UPU_PARAMS: dict = {
-    "R_A": 0.40,  # base hinge circle radius
-    "R_B": 0.20,  # platform hinge circle radius
-    "theta_deg": (45.0, 135.0, 225.0, 315.0),  # base hinge angles, legs 1-4
-    "phi_deg": (75.0, 165.0, 195.0, 285.0),  # platform hinge angles (non-singular layout)
-    "home_centre": (0.0, 0.0, 0.70),  # platform centre at home, A_p = I
-    "swing_com": 0.20,  # swing-rod mass centre from U (rod length 0.40)
-    "tele_com": 0.20,  # telescopic-rod mass centre from S/U' (rod length 0.40)
-    "swing_mass": 2.0,
-    "swing_inertia": (0.028, 0.028, 0.001),
-    "tele_mass": 1.5,
-    "tele_inertia": (0.021, 0.021, 0.0005),
-    "platform_mass": 10.0,
-    # thin disc r = 0.25 m: m r^2/4, m r^2/2. mechanisms.md rounds 0.15625 to 0.156, which
-    # violates I1 + I2 >= I3 (0.312 < 0.3125) and is rejected by Body; use the exact values.
-    "platform_inertia": (0.15625, 0.15625, 0.3125),
-    "gravity": (0.0, 0.0, -9.81),
-}
+__all__ = ["UPS_UPU_PARAMS", "UpsUpuParams", "home_leg_lengths", "ups_upu_ideal"]
 
 
-def _geometry(par: dict) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
+@dataclass(frozen=True)
+class UpsUpuParams(ParamSet):
+    """4UPS-UPU parameter set (mechanisms.md 1.4, PROPOSED reconstruction; validated).
+
+    Base points A_k = R_A (cos theta_k, sin theta_k, 0) (world), platform points
+    B_k = R_B (cos phi_k, sin phi_k, 0) (platform frame, origin = platform mass centre),
+    k = 1..4; leg 5 from A_5 = O to the platform centre, vertical at home. Inertias are
+    about the mass centre in body components (rod axis = body z). The rod lengths only
+    bound the mass-centre positions (they do not enter the dynamics otherwise).
+    """
+
+    OWNER: ClassVar[str] = "4ups-upu parameters"
+
+    R_A: float = param(0.40, "positive", "m", "base hinge circle radius")
+    R_B: float = param(0.20, "positive", "m", "platform hinge circle radius")
+    theta_deg: tuple = param(BASE_ANGLES_DEG, "angles4", "deg", "base hinge angles, legs 1-4")
+    phi_deg: tuple = param(
+        PLATFORM_ANGLES_DEG, "angles4", "deg", "platform hinge angles, legs 1-4 (non-singular)"
+    )
+    home_height: float = param(0.70, "positive", "m", "platform centre height at home, A_p = I")
+    swing_length: float = param(0.40, "positive", "m", "swing rod length L_s")
+    swing_com: float = param(0.20, "positive", "m", "swing rod mass centre from U, l_s")
+    tele_length: float = param(0.40, "positive", "m", "telescopic rod length L_t")
+    tele_com: float = param(0.20, "positive", "m", "telescopic rod mass centre from S/U', l_t")
+    swing_mass: float = param(2.0, "positive", "kg", "swing rod mass m_s")
+    swing_inertia: tuple = param(
+        (0.028, 0.028, 0.001), "inertia3", "kg m^2", "swing rod inertia J_s (axis = body z)"
+    )
+    tele_mass: float = param(1.5, "positive", "kg", "telescopic rod mass m_t")
+    tele_inertia: tuple = param(
+        (0.021, 0.021, 0.0005), "inertia3", "kg m^2", "telescopic rod inertia J_t (axis = body z)"
+    )
+    platform_mass: float = param(10.0, "positive", "kg", "platform mass m_p (disc r = 0.25 m)")
+    platform_inertia: tuple = param(
+        DISC_INERTIA, "inertia3", "kg m^2", "platform inertia J_p about its centre (disc)"
+    )
+    gravity: tuple = param((0.0, 0.0, -9.81), "vector3", "m/s^2", "gravity, world frame")
+
+    def _check_cross(self) -> None:
+        for com, length in (("swing_com", "swing_length"), ("tele_com", "tele_length")):
+            if not getattr(self, com) < getattr(self, length):
+                raise ModelError(
+                    self.OWNER,
+                    com,
+                    getattr(self, com),
+                    f"the mass centre must lie on the rod: < {length} = {getattr(self, length)} m",
+                )
+
+
+# The default parameter set as a read-only mapping (mechanisms.md 1.4).
+UPS_UPU_PARAMS: Mapping[str, object] = MappingProxyType(UpsUpuParams().to_dict())
+
+
+def _params(params: UpsUpuParams | Mapping[str, object] | None) -> UpsUpuParams:
+    if params is None:
+        return UpsUpuParams()
+    if isinstance(params, UpsUpuParams):
+        return params
+    if isinstance(params, Mapping):
+        return UpsUpuParams.from_mapping(params)
+    raise ModelError("ups_upu_ideal", "params", params, "expected UpsUpuParams or a mapping")
+
+
+def _geometry(par: UpsUpuParams) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray]:
     """Base points A_k (world), platform points B_k (platform body frame), centre C (world)."""
-    ra, rb = par["R_A"], par["R_B"]
-    A = [ra * np.array([math.cos(a), math.sin(a), 0.0]) for a in np.radians(par["theta_deg"])]
-    B = [rb * np.array([math.cos(a), math.sin(a), 0.0]) for a in np.radians(par["phi_deg"])]
+    ra, rb = par.R_A, par.R_B
+    A = [ra * np.array([math.cos(a), math.sin(a), 0.0]) for a in np.radians(par.theta_deg)]
+    B = [rb * np.array([math.cos(a), math.sin(a), 0.0]) for a in np.radians(par.phi_deg)]
     A.append(np.zeros(3))  # A_5 = O
     B.append(np.zeros(3))  # B_5 = platform centre
-    return A, B, np.array(par["home_centre"], dtype=float)
+    return A, B, np.array([0.0, 0.0, par.home_height])
 
 
-def home_leg_lengths() -> tuple[float, ...]:
-    """Leg lengths |A_k B_k| [m] at the home pose, legs 1..5 (leg 5: 0.70 m)."""
-    A, B, C = _geometry(UPS_UPU_PARAMS)
+def home_leg_lengths(
+    params: UpsUpuParams | Mapping[str, object] | None = None,
+) -> tuple[float, ...]:
+    """Leg lengths |A_k B_k| [m] at the home pose, legs 1..5 (leg 5: the home height)."""
+    A, B, C = _geometry(_params(params))
     return tuple(float(np.linalg.norm(C + b - a)) for a, b in zip(A, B, strict=True))
 
 
@@ -114,21 +169,31 @@ def _default_drives(lengths: Sequence[float]) -> list[TimeFunction]:
     ]
 
 
-def ups_upu_ideal(*, drives: Sequence[TimeFunction | float] | None = None) -> Mechanism:
+def ups_upu_ideal(
+    params: UpsUpuParams | Mapping[str, object] | None = None,
+    *,
+    drives: Sequence[TimeFunction | float] | None = None,
+    name: str = "4UPS-UPU ideal",
+) -> Mechanism:
     """Build the ideal 4UPS-UPU mechanism with leg-length drivers (mechanisms.md 1.2-1.4).
 
+    params: an `UpsUpuParams`, or a mapping of field overrides merged over the defaults
+    (e.g. {"R_A": 0.45, "platform_mass": 12.0}); None = mechanisms.md 1.4.
     drives: five time functions (or constant numbers) giving the leg lengths l_k(t) [m] of
     legs 1..5; default: small sinusoids around the home lengths (see `_default_drives`).
     Returns an uncompiled `Mechanism` with 11 moving bodies ("platform", "swing_k",
     "tele_k"), joints "U_k", "P_k", "S_k" (k = 1..4), "U_5", "P_5", "U5p", and drivers
-    "drive_k". Constraint rows: 66, DOF 0.
+    "drive_k". Constraint rows: 66, DOF 0. The spherical joints S_k have the platform
+    marker as marker i (socket side of a later `Clearance`) and the rod marker as j.
     """
-    par = UPS_UPU_PARAMS
+    par = _params(params)
     A, B, C = _geometry(par)
-    lengths = home_leg_lengths()
+    lengths = home_leg_lengths(par)
     if drives is None:
         fns = _default_drives(lengths)
     else:
+        if isinstance(drives, (str, bytes)) or not isinstance(drives, Sequence):
+            raise ModelError("ups_upu_ideal", "drives", drives, "expected 5 leg-length functions")
         drives = list(drives)
         if len(drives) != 5:
             raise ModelError("ups_upu_ideal", "drives", drives, "expected 5 leg-length functions")
@@ -137,12 +202,12 @@ def ups_upu_ideal(*, drives: Sequence[TimeFunction | float] | None = None) -> Me
             for k, f in enumerate(drives)
         ]
 
-    mech = Mechanism("4UPS-UPU ideal", gravity=par["gravity"])
+    mech = Mechanism(name, gravity=par.gravity)
     mech.add(
         Body(
             "platform",
-            par["platform_mass"],
-            par["platform_inertia"],
+            par.platform_mass,
+            par.platform_inertia,
             position=tuple(C),
         )
     )
@@ -152,7 +217,7 @@ def ups_upu_ideal(*, drives: Sequence[TimeFunction | float] | None = None) -> Me
         a_w, b_w = A[k], C + B[k]  # world points of the leg at home
         u = (b_w - a_w) / np.linalg.norm(b_w - a_w)  # leg axis, A_k -> B_k
         if k < 4:
-            th = math.radians(par["theta_deg"][k])
+            th = math.radians(par.theta_deg[k])
             t_ax = np.array([-math.sin(th), math.cos(th), 0.0])  # tangential U axis
             R = _rod_frame(u, t_ax)  # body x = t_k projected, body z = u
             u_ground, u_swing = t_ax, np.cross(u, t_ax) / np.linalg.norm(np.cross(u, t_ax))
@@ -160,19 +225,19 @@ def ups_upu_ideal(*, drives: Sequence[TimeFunction | float] | None = None) -> Me
             R = eye.copy()  # leg 5 is vertical at home: rod frames = world
             u_ground, u_swing = eye[0], eye[1]
         swing, tele = f"swing_{n}", f"tele_{n}"
-        ls, lt = par["swing_com"], par["tele_com"]
+        ls, lt = par.swing_com, par.tele_com
         mech.add(
             Body(
                 swing,
-                par["swing_mass"],
-                par["swing_inertia"],
+                par.swing_mass,
+                par.swing_inertia,
                 position=tuple(a_w + ls * u),
                 orientation=R,
             ),
             Body(
                 tele,
-                par["tele_mass"],
-                par["tele_inertia"],
+                par.tele_mass,
+                par.tele_inertia,
                 position=tuple(b_w - lt * u),
                 orientation=R,
             ),

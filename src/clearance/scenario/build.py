@@ -1,0 +1,188 @@
+"""From a validated scenario to mechanisms: `build_mechanisms(s) -> (ideal, clearance, info)`.
+
+Dispatch is by mechanism type through `BUILDERS` ({MechanismType: builder}); a builder
+makes the ideal mechanism with the factory of its type and the clearance mechanism with
+`Mechanism.with_clearance` for every joint of [clearance.joints]. The 4-SPS/CU builder is
+added to `BUILDERS` together with its factory; until then its scenarios validate
+(`clearance check`) but do not build.
+
+The actuator drives are not computed here: `info` carries the platform trajectory
+(`info.pose_functions()`, `info.platform_trajectory()`), the platform marker and the
+actuator driver names that the general inverse kinematics (physics.md e.2,
+`clearance.kinematics.ik`) needs; pass its drives back through `drives=`. Without them the
+actuators hold the home lengths (the platform rests at home).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from clearance.mechanisms.ups_upu import home_leg_lengths, ups_upu_ideal
+from clearance.model.errors import ModelError
+from clearance.model.functions import Constant, Sinusoid, TimeFunction
+from clearance.model.mechanism import Mechanism
+from clearance.scenario.errors import ScenarioError
+from clearance.scenario.schema import (
+    MECHANISMS,
+    InitialPlacement,
+    MechanismType,
+    Scenario,
+    TrajectoryShape,
+    TrajectorySpec,
+)
+
+__all__ = ["BUILDERS", "BuildInfo", "build_mechanisms", "shape_function"]
+
+Drives = Sequence[TimeFunction | float] | Mapping[str, TimeFunction | float] | None
+
+
+def shape_function(
+    shape: TrajectoryShape, center: float, amplitude: float, omega: float
+) -> TimeFunction:
+    """center + amplitude g(t): rest-to-rest g = (1 - cos(omega t))/2, sin g = sin(omega t)."""
+    if amplitude == 0.0:
+        return Constant(center)
+    if shape is TrajectoryShape.REST_TO_REST:
+        return Sinusoid(-0.5 * amplitude, omega, 0.5 * math.pi, center + 0.5 * amplitude)
+    return Sinusoid(amplitude, omega, 0.0, center)
+
+
+@dataclass(frozen=True)
+class BuildInfo:
+    """What a run needs besides the two mechanisms.
+
+    platform_body / platform_marker: the moving platform and the marker (here a body name:
+    its mass centre with the body axes) whose pose the trajectory prescribes. actuators:
+    driver names, one per actuated leg, in order; actuator_joints: their prismatic joints;
+    home_drives: actuator values at home [m]. clearance_joints: names of the joints with
+    clearance. home_position (3,) [m]: platform centre at home, where g(t) = 0.
+    pose_sequence / pose_mode: rotation sequence and mode of the prescribed orientation
+    (`clearance.kinematics.ik.PlatformTrajectory`); angle_coordinates: trajectory
+    coordinates mapped onto that sequence (missing ones are 0). t_end [s]: the scenario's
+    duration. simulate_kwargs: keyword arguments of `clearance.simulate`.
+    """
+
+    mechanism_type: MechanismType
+    platform_body: str
+    platform_marker: str
+    actuators: tuple[str, ...]
+    actuator_joints: tuple[str, ...]
+    home_drives: tuple[float, ...]
+    clearance_joints: tuple[str, ...]
+    home_position: tuple[float, float, float]
+    trajectory: TrajectorySpec
+    pose_sequence: str
+    pose_mode: str
+    angle_coordinates: tuple[str, ...]
+    initial: InitialPlacement
+    t_end: float
+    simulate_kwargs: dict = field(default_factory=dict)
+
+    def pose_functions(self) -> dict[str, TimeFunction]:
+        """x, y, z [m] of the platform marker and the angles [rad] of `pose_sequence`
+        (keys "angle_1".."angle_3") as time functions: home + amplitude g(t)."""
+        tr, w = self.trajectory, self.trajectory.omega
+        out = {
+            c: shape_function(tr.shape, h, tr.amplitude.get(c, 0.0), w)
+            for c, h in zip(("x", "y", "z"), self.home_position, strict=True)
+        }
+        for k in range(3):
+            name = self.angle_coordinates[k] if k < len(self.angle_coordinates) else ""
+            out[f"angle_{k + 1}"] = shape_function(tr.shape, 0.0, tr.amplitude.get(name, 0.0), w)
+        return out
+
+    def platform_trajectory(self) -> Any:
+        """The trajectory as a `clearance.kinematics.ik.PlatformTrajectory`."""
+        from clearance.kinematics.ik import PlatformTrajectory
+
+        f = self.pose_functions()
+        angles = (f["angle_1"], f["angle_2"], f["angle_3"])
+        return PlatformTrajectory(
+            f["x"], f["y"], f["z"], angles=angles, sequence=self.pose_sequence, mode=self.pose_mode
+        )
+
+
+def _drive_list(drives: Drives, actuators: tuple[str, ...], source: str) -> list | None:
+    if drives is None or not isinstance(drives, Mapping):
+        return None if drives is None else list(drives)
+    unknown = [k for k in drives if k not in actuators]
+    missing = [a for a in actuators if a not in drives]
+    if unknown or missing:
+        raise ScenarioError(
+            source,
+            "drives",
+            sorted(drives),
+            f"expected one drive per actuator {list(actuators)} (unknown {unknown}, "
+            f"missing {missing})",
+        )
+    return [drives[a] for a in actuators]
+
+
+def _build_ups_upu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, BuildInfo]:
+    par = s.mechanism.params
+    kind = MECHANISMS[MechanismType.UPS_UPU]
+    actuators = tuple(f"drive_{k}" for k in range(1, 6))
+    home = home_leg_lengths(par)  # type: ignore[arg-type]
+    fns = _drive_list(drives, actuators, s.source)
+    ideal = ups_upu_ideal(par, drives=home if fns is None else fns, name=f"{s.name} (ideal)")  # type: ignore[arg-type]
+    clr = ideal.copy()
+    for name, joint in s.clearance.joints.items():
+        clr = clr.with_clearance(name, joint.clearance())
+    clr.name = f"{s.name} (clearance)"
+    info = BuildInfo(
+        mechanism_type=MechanismType.UPS_UPU,
+        platform_body="platform",
+        platform_marker="platform",
+        actuators=actuators,
+        actuator_joints=tuple(f"P_{k}" for k in range(1, 6)),
+        home_drives=home,
+        clearance_joints=tuple(s.clearance.joints),
+        home_position=(0.0, 0.0, par.home_height),  # type: ignore[attr-defined]
+        trajectory=s.trajectory,
+        pose_sequence=kind.sequence,
+        pose_mode=kind.mode,
+        angle_coordinates=kind.angles,
+        initial=s.clearance.initial,
+        t_end=s.trajectory.duration,
+        simulate_kwargs=s.solver.simulate_kwargs(),
+    )
+    return ideal, clr, info
+
+
+Builder = Callable[[Scenario, Drives], tuple[Mechanism, Mechanism, BuildInfo]]
+
+# Mechanism type -> builder. The 4-SPS/CU builder is added with its factory.
+BUILDERS: dict[MechanismType, Builder] = {
+    MechanismType.UPS_UPU: _build_ups_upu,
+}
+
+
+def build_mechanisms(
+    s: Scenario, *, drives: Drives = None
+) -> tuple[Mechanism, Mechanism, BuildInfo]:
+    """(ideal mechanism, clearance mechanism, info) of a validated scenario.
+
+    drives: actuator drives (time functions or numbers [m]), a sequence in the order of
+    `info.actuators` or a mapping actuator name -> function (e.g. from the inverse
+    kinematics of `info.platform_trajectory()`); None = hold the home lengths.
+    Raises ScenarioError naming `mechanism.type` when no builder exists for the type.
+    """
+    if not isinstance(s, Scenario):
+        raise ScenarioError("<build>", "scenario", s, "expected a validated Scenario")
+    builder = BUILDERS.get(s.mechanism.type)
+    if builder is None:
+        raise ScenarioError(
+            s.source,
+            "mechanism.type",
+            s.mechanism.type.value,
+            "builder not available in this version",
+        )
+    try:
+        return builder(s, drives)
+    except ScenarioError:
+        raise
+    except ModelError as e:
+        raise ScenarioError(s.source, e.field, e.value, f"{e.element}: {e.allowed}") from e

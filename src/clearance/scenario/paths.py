@@ -1,0 +1,195 @@
+"""Addressing scenario fields by dotted path: get, set, override (the basis of studies).
+
+A path is the dotted key path of the file: `mechanism.R_A`, `trajectory.amplitude.z`,
+`clearance.joints.S_1.radial_clearance`, `clearance.joints.S_1.normal.restitution`,
+`solver.rtol`; a list element is addressed as `mechanism.theta_deg[0]`. A path is valid if
+the format allows it for this scenario (mechanism type, clearance joint names and law
+names are taken from the document), whether or not the document writes the key out.
+
+    d = scenario_to_dict(s)
+    get_path(d, "clearance.joints.S_1.radial_clearance")        # 0.0003
+    d2 = set_path(d, "clearance.joints.S_1.radial_clearance", 2e-4)   # a new dict
+    s2 = with_overrides(s, {"solver.rtol": 1e-8, "mechanism.R_A": 0.45})  # validated
+
+Setting one of radial_clearance / socket_radius removes the other from that joint.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import re
+from collections.abc import Mapping
+
+from clearance.model.contact_laws import FRICTION_LAWS, NORMAL_LAWS
+from clearance.scenario.errors import MISSING, ScenarioError, did_you_mean
+from clearance.scenario.schema import (
+    CLEARANCE_FIELDS,
+    JOINT_FIELDS,
+    JOINT_TABLES,
+    MATERIAL_FIELDS,
+    MECHANISMS,
+    OUTPUT_FIELDS,
+    SCENARIO_FIELDS,
+    SOLVER_FIELDS,
+    TOP_KEYS,
+    TRAJECTORY_FIELDS,
+    MechanismType,
+    Scenario,
+    scenario_from_dict,
+)
+from clearance.scenario.serialize import scenario_to_dict
+
+__all__ = ["allowed_keys", "get_path", "set_path", "split_path", "with_overrides"]
+
+_SEGMENT = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
+_LAW_DEFAULT = {"normal": "flores", "friction": "none"}
+_EXCLUSIVE = {"radial_clearance": "socket_radius", "socket_radius": "radial_clearance"}
+
+
+def split_path(path: str, *, source: str = "<path>") -> list[str | int]:
+    """'a.b[1].c' -> ['a', 'b', 1, 'c']; ScenarioError for a malformed path."""
+    if not isinstance(path, str) or not path:
+        raise ScenarioError(source, str(path), path, "expected a dotted path such as 'solver.rtol'")
+    out: list[str | int] = []
+    for seg in path.split("."):
+        m = _SEGMENT.match(seg.strip())
+        if not m:
+            raise ScenarioError(
+                source, path, seg, "malformed path segment; expected name or name[index]"
+            )
+        out.append(m.group(1))
+        out.extend(int(i) for i in re.findall(r"\[(\d+)\]", m.group(2)))
+    return out
+
+
+def _get(d: object, key: str) -> object:
+    return d.get(key, MISSING) if isinstance(d, Mapping) else MISSING
+
+
+def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
+    """Keys the format allows below the table at `keys` of document d (None: a leaf)."""
+    mech = _get(d, "mechanism")
+    mtype = _get(mech, "type")
+    kind = (
+        MECHANISMS.get(MechanismType(mtype)) if mtype in [m.value for m in MechanismType] else None
+    )
+    n = len(keys)
+    if n == 0:
+        return TOP_KEYS
+    head = keys[0]
+    if n == 1:
+        sections = {
+            "scenario": tuple(SCENARIO_FIELDS),
+            "trajectory": (*TRAJECTORY_FIELDS, "amplitude"),
+            "clearance": (*CLEARANCE_FIELDS, "joints"),
+            "solver": tuple(SOLVER_FIELDS),
+            "output": tuple(OUTPUT_FIELDS),
+            "mechanism": ("type", *(kind.params.spec() if kind else ())),
+        }
+        return sections.get(head)
+    if keys[:2] == ["trajectory", "amplitude"] and n == 2:
+        return kind.coordinates if kind else ()
+    if head != "clearance" or keys[1] != "joints":
+        return None
+    if n == 2:
+        return tuple(kind.spherical_joints) if kind else ()
+    if n == 3:
+        return (*JOINT_FIELDS, *JOINT_TABLES)
+    if n == 4 and keys[3] in ("ball_material", "socket_material"):
+        return MATERIAL_FIELDS
+    if n == 4 and keys[3] in _LAW_DEFAULT:
+        registry = NORMAL_LAWS if keys[3] == "normal" else FRICTION_LAWS
+        law = _get(_get(_get(_get(_get(d, "clearance"), "joints"), keys[2]), keys[3]), "law")
+        cls = registry.get(law if isinstance(law, str) else _LAW_DEFAULT[keys[3]])
+        return ("law", *(f.name for f in dataclasses.fields(cls) if f.init)) if cls else ("law",)
+    return None
+
+
+def _check(
+    d: Mapping, parts: list[str | int], path: str, source: str, value: object = MISSING
+) -> None:
+    """Raise ScenarioError unless every name segment of `parts` is allowed by the format.
+    The error names the path, the value to set (or the bad segment) and what is allowed."""
+    keys: list[str] = []
+    for p in parts:
+        if isinstance(p, int):
+            continue
+        allowed = allowed_keys(d, keys)
+        if allowed is None or p not in allowed:
+            where = ".".join(keys) or "the top level"
+            if allowed is None:
+                msg = f"'{'.'.join(keys)}' is a value, not a table"
+            else:
+                msg = (
+                    f"unknown key '{p}' in {where};{did_you_mean(p, allowed)} "
+                    f"allowed: {', '.join(allowed)}"
+                )
+            raise ScenarioError(source, path, p if value is MISSING else value, msg)
+        keys.append(p)
+
+
+def get_path(d: Mapping, path: str, *, source: str = "<dict>") -> object:
+    """The value at a dotted path of a scenario dict; ScenarioError if the path is not
+    allowed by the format or not present in d."""
+    parts = split_path(path, source=source)
+    _check(d, parts, path, source)
+    node: object = d
+    for p in parts:
+        if isinstance(p, int):
+            if not isinstance(node, list) or not -len(node) <= p < len(node):
+                raise ScenarioError(source, path, node, f"index {p} out of range or not a list")
+            node = node[p]
+            continue
+        if not isinstance(node, Mapping) or p not in node:
+            raise ScenarioError(source, path, MISSING, "allowed, but not set in this scenario")
+        node = node[p]
+    return node
+
+
+def set_path(d: Mapping, path: str, value: object, *, source: str = "<dict>") -> dict:
+    """A deep copy of d with `value` at `path` (tables created as needed). The path must be
+    allowed by the format; the value is checked when the result is validated
+    (`scenario_from_dict`)."""
+    parts = split_path(path, source=source)
+    _check(d, parts, path, source, value)
+    out = copy.deepcopy(dict(d))
+    node: object = out
+    for i, p in enumerate(parts):
+        last = i == len(parts) - 1
+        nxt = None if last else parts[i + 1]
+        if isinstance(p, int):
+            if not isinstance(node, list) or not -len(node) <= p < len(node):
+                raise ScenarioError(source, path, node, f"index {p} out of range or not a list")
+            if last:
+                node[p] = value
+            else:
+                node = node[p]
+            continue
+        assert isinstance(node, dict)
+        if last:
+            node[p] = value
+            if p in _EXCLUSIVE and len(parts) == 4:  # clearance.joints.<J>.<radius field>
+                node.pop(_EXCLUSIVE[p], None)
+        else:
+            if p not in node:
+                if isinstance(nxt, int):
+                    raise ScenarioError(source, path, MISSING, f"no list '{p}' to index")
+                node[p] = {}
+            node = node[p]
+    return out
+
+
+def with_overrides(s: Scenario, overrides: Mapping[str, object]) -> Scenario:
+    """A validated copy of scenario s with values set at dotted paths. All path problems
+    are reported together, then the values are validated like a file."""
+    d = scenario_to_dict(s)
+    problems = []
+    for path, value in overrides.items():
+        try:
+            d = set_path(d, path, value, source=s.source)
+        except ScenarioError as e:
+            problems.append(e)
+    if problems:
+        raise ScenarioError.from_problems(problems)
+    return scenario_from_dict(d, source=f"{s.source} (overrides)")

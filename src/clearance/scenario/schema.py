@@ -1,0 +1,549 @@
+"""Scenario format version 1: the validated `Scenario` and its dict form.
+
+A scenario file (TOML, see docs/scenario-format.md) has `format_version = 1` and the
+sections [scenario], [mechanism], [trajectory], [clearance] (with [clearance.joints.<joint>]
+tables), [solver] and [output]. `scenario_from_dict(d, source=...)` checks everything and
+returns frozen dataclasses in which strings have become enums, law objects and parameter
+sets; every problem of the file is collected and raised together as one `ScenarioError`
+(file, dotted field path, value, what is allowed). `scenario_to_dict(s)` is the inverse: a
+complete, canonical dict (every default written out, `clearance.scenario.serialize`) that
+validates to an equal Scenario.
+
+Field paths are the dotted key paths of the file (`mechanism.R_A`,
+`clearance.joints.S_1.normal.restitution`, `solver.rtol`); studies address parameters by them
+(`clearance.scenario.paths`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Any
+
+from clearance.integrate.simulate import METHODS
+from clearance.mechanisms.params import ParamSet, SpsCuParams
+from clearance.mechanisms.ups_upu import UpsUpuParams
+from clearance.model.clearance import Clearance
+from clearance.model.contact_laws import (
+    FRICTION_LAWS,
+    NORMAL_LAWS,
+    STEEL,
+    Flores,
+    FrictionContactLaw,
+    Material,
+    NoFriction,
+    NormalContactLaw,
+)
+from clearance.model.errors import ModelError
+from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_mean
+from clearance.scenario.fields import REQUIRED, Field, parse_table, table_at
+
+__all__ = [
+    "FORMAT_VERSION",
+    "MECHANISMS",
+    "ClearanceSpec",
+    "InitialPlacement",
+    "JointSpec",
+    "MechanismKind",
+    "MechanismSpec",
+    "MechanismType",
+    "OutputSpec",
+    "Scenario",
+    "ScenarioMeta",
+    "SolverSpec",
+    "TrajectoryShape",
+    "TrajectorySpec",
+    "scenario_from_dict",
+]
+
+FORMAT_VERSION = 1
+SECTIONS = ("scenario", "mechanism", "trajectory", "clearance", "solver", "output")
+TOP_KEYS = ("format_version", *SECTIONS)
+AUTO = "auto"  # in a law table: the field's computed value (None in Python)
+
+
+class MechanismType(str, Enum):
+    UPS_UPU = "4ups-upu"
+    SPS_CU = "4sps-cu"
+
+
+class TrajectoryShape(str, Enum):
+    REST_TO_REST = "rest-to-rest"  # g = (1 - cos(2 pi t / period)) / 2
+    SIN = "sin"  # g = sin(2 pi t / period)
+
+
+class InitialPlacement(str, Enum):
+    CENTRED = "centred"  # ball centre at the socket centre (mechanisms.md 1.6 option A)
+    REACTION = "reaction"  # e = c n0 along the ideal reaction (option B)
+
+
+@dataclass(frozen=True)
+class MechanismKind:
+    """What a mechanism type offers to a scenario file.
+
+    params: its parameter set class; spherical_joints: joint names that may get clearance,
+    with the body of marker i (the default socket side); positions / angles: trajectory
+    amplitude coordinates [m] / [rad]; sequence, mode: the platform-pose description of
+    `clearance.kinematics.ik` (angles map onto the sequence, missing ones are 0).
+    """
+
+    params: type[ParamSet]
+    spherical_joints: Mapping[str, str]
+    positions: tuple[str, ...]
+    angles: tuple[str, ...]
+    sequence: str
+    mode: str
+    description: str
+
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        return (*self.positions, *self.angles)
+
+
+MECHANISMS: Mapping[MechanismType, MechanismKind] = {
+    MechanismType.UPS_UPU: MechanismKind(
+        params=UpsUpuParams,
+        spherical_joints={f"S_{k}": "platform" for k in range(1, 5)},
+        positions=("x", "y", "z"),
+        angles=("alpha", "beta"),
+        sequence="xyz",
+        mode="axis",
+        description="4UPS-UPU parallel mechanism (mechanisms.md 1)",
+    ),
+    # Joint names of the future 4-SPS/CU factory: SA_k base side, SB_k platform side.
+    MechanismType.SPS_CU: MechanismKind(
+        params=SpsCuParams,
+        spherical_joints={
+            **{f"SA_{k}": "ground" for k in range(1, 5)},
+            **{f"SB_{k}": "platform" for k in range(1, 5)},
+        },
+        positions=("z",),
+        angles=("psi", "t1", "t2"),
+        sequence="zxy",
+        mode="full",
+        description="4-SPS/CU parallel mechanism (mechanisms.md 2)",
+    ),
+}
+
+_ENUMS = {
+    "method": METHODS,
+    "linear_solver": ("auto", "schur", "dense", "lstsq"),
+    "formats": ("netcdf", "csv", "mat", "npz"),
+    "figure_format": ("png", "pdf", "svg"),
+}
+
+SCENARIO_FIELDS = {
+    "name": Field("name", REQUIRED, doc="scenario name (result file names, labels)"),
+    "description": Field("text", "", doc="free text"),
+}
+TRAJECTORY_FIELDS = {
+    "shape": Field(
+        "choice", "rest-to-rest", doc="g(t)", choices=tuple(s.value for s in TrajectoryShape)
+    ),
+    "duration": Field("positive", 2.0, "s", "simulated time t_end"),
+    "period": Field("positive", None, "s", "period of g(t); default: duration"),
+}
+CLEARANCE_FIELDS = {
+    "initial": Field(
+        "choice",
+        "centred",
+        doc="ball placement at t = 0",
+        choices=tuple(p.value for p in InitialPlacement),
+    ),
+}
+JOINT_FIELDS = {
+    "ball_radius": Field("positive", REQUIRED, "m", "ball radius R_b"),
+    "radial_clearance": Field("positive", None, "m", "c = R_s - R_b (or socket_radius)"),
+    "socket_radius": Field("positive", None, "m", "R_s (or radial_clearance)"),
+    "socket": Field("choice", "i", doc="marker whose body holds the socket", choices=("i", "j")),
+    "velocity_floor": Field("positive", 1e-4, "m/s", "floor of delta_dot_minus"),
+    "onset_tolerance": Field("positive", 1e-3, doc="onset penetration / c (< 0.5)"),
+}
+JOINT_TABLES = ("normal", "friction", "ball_material", "socket_material")
+MATERIAL_FIELDS = ("E", "nu")
+SOLVER_FIELDS = {
+    "method": Field("choice", "dopri5", doc="integrator", choices=_ENUMS["method"]),
+    "rtol": Field("positive", 1e-6, doc="relative tolerance (dopri5)"),
+    "atol": Field("positive", 1e-9, doc="absolute tolerance (dopri5)"),
+    "first_step": Field("nonneg", 0.0, "s", "first step (0: automatic)"),
+    "max_step": Field("positive_inf", math.inf, "s", "largest step (inf: no limit)"),
+    "min_step": Field("positive", 1e-14, "s", "smallest step before failure"),
+    "max_steps": Field("count", 10_000_000, doc="step budget"),
+    "step": Field("positive", 1e-3, "s", "fixed step (rk4)"),
+    "baumgarte_alpha": Field("nonneg", 5.0, "1/s", "Baumgarte alpha"),
+    "baumgarte_beta": Field("nonneg", 5.0, "1/s", "Baumgarte beta"),
+    "linear_solver": Field(
+        "choice", "auto", doc="constraint solve", choices=_ENUMS["linear_solver"]
+    ),
+    "projection": Field("bool", False, doc="coordinate projection after each step"),
+    "projection_tol": Field("positive", 1e-10, doc="projection tolerance"),
+    "dt_out": Field("positive", 1e-4, "s", "output interval"),
+    "max_events": Field("count", 100_000, doc="contact event log size"),
+}
+OUTPUT_FIELDS = {
+    "folder": Field("name", "results", doc="output folder"),
+    "figures": Field("bool", True, doc="write figures"),
+    "figure_format": Field("choice", "png", choices=_ENUMS["figure_format"]),
+    "formats": Field("choices", ("netcdf",), doc="result files", choices=_ENUMS["formats"]),
+}
+
+
+# --------------------------------------------------------------------------- dataclasses
+
+
+@dataclass(frozen=True)
+class ScenarioMeta:
+    name: str
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class MechanismSpec:
+    type: MechanismType
+    params: ParamSet
+
+    @property
+    def kind(self) -> MechanismKind:
+        return MECHANISMS[self.type]
+
+
+@dataclass(frozen=True)
+class TrajectorySpec:
+    """Platform pose = home + amplitude[coord] * g(t); g = 0 at t = 0 (mechanisms.md 1.5, 2.3).
+
+    amplitude: coordinate -> amplitude ([m] for positions, [rad] for angles), every
+    coordinate of the mechanism type present (0 = not moved).
+    """
+
+    shape: TrajectoryShape = TrajectoryShape.REST_TO_REST
+    duration: float = 2.0
+    period: float = 2.0
+    amplitude: dict = field(default_factory=dict)
+
+    @property
+    def omega(self) -> float:
+        """Angular frequency 2 pi / period [rad/s]."""
+        return 2.0 * math.pi / self.period
+
+
+@dataclass(frozen=True)
+class JointSpec:
+    """One clearance joint as written in the file (exactly one of socket_radius and
+    radial_clearance is set); `clearance()` gives the model's `Clearance`."""
+
+    ball_radius: float
+    radial_clearance: float | None = None
+    socket_radius: float | None = None
+    socket: str = "i"
+    normal: NormalContactLaw = Flores()
+    friction: FrictionContactLaw = NoFriction()
+    ball_material: Material = STEEL
+    socket_material: Material = STEEL
+    velocity_floor: float = 1e-4
+    onset_tolerance: float = 1e-3
+
+    def clearance(self) -> Clearance:
+        kw = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        return Clearance(**kw)
+
+
+@dataclass(frozen=True)
+class ClearanceSpec:
+    initial: InitialPlacement = InitialPlacement.CENTRED
+    joints: dict = field(default_factory=dict)  # joint name -> JointSpec
+
+
+@dataclass(frozen=True)
+class SolverSpec:
+    method: str = "dopri5"
+    rtol: float = 1e-6
+    atol: float = 1e-9
+    first_step: float = 0.0
+    max_step: float = math.inf
+    min_step: float = 1e-14
+    max_steps: int = 10_000_000
+    step: float = 1e-3
+    baumgarte_alpha: float = 5.0
+    baumgarte_beta: float = 5.0
+    linear_solver: str = "auto"
+    projection: bool = False
+    projection_tol: float = 1e-10
+    dt_out: float = 1e-4
+    max_events: int = 100_000
+
+    def simulate_kwargs(self) -> dict[str, object]:
+        """Keyword arguments of `clearance.simulate` (without t_end)."""
+        kw = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        kw["baumgarte"] = (kw.pop("baumgarte_alpha"), kw.pop("baumgarte_beta"))
+        kw["solver"] = kw.pop("linear_solver")
+        return kw
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    folder: str = "results"
+    figures: bool = True
+    figure_format: str = "png"
+    formats: tuple = ("netcdf",)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A validated scenario (format version 1). `source`: the file it came from."""
+
+    scenario: ScenarioMeta
+    mechanism: MechanismSpec
+    trajectory: TrajectorySpec
+    clearance: ClearanceSpec
+    solver: SolverSpec
+    output: OutputSpec
+    format_version: int = FORMAT_VERSION
+    source: str = field(default="<dict>", compare=False)
+
+    @property
+    def name(self) -> str:
+        return self.scenario.name
+
+    def summary(self) -> str:
+        """One line: name, mechanism, clearance joints, trajectory, integrator."""
+        joints = self.clearance.joints
+        jt = f"{len(joints)} clearance joint{'s' * (len(joints) != 1)}"
+        if joints:
+            jt += f" ({', '.join(joints)})"
+        sv = self.solver
+        tol = f"rtol {sv.rtol:g}, atol {sv.atol:g}" if sv.method == "dopri5" else f"h {sv.step:g}"
+        return (
+            f"scenario '{self.name}': {self.mechanism.type.value}, {jt}, "
+            f"{self.trajectory.shape.value} {self.trajectory.duration:g} s, {sv.method} {tol}"
+        )
+
+
+# --------------------------------------------------------------------------- parsing
+
+
+def _optional(f: dataclasses.Field) -> bool:
+    return "None" in str(f.type)
+
+
+def _construct(cls: type, kwargs: dict, path: str, problems: Problems) -> Any:
+    """cls(**kwargs); on ModelError report it at path.<field>, drop that field and retry so
+    that further bad fields are reported too. None if anything was wrong."""
+    kw, failed = dict(kwargs), False
+    for _ in range(len(kw) + 1):
+        try:
+            obj = cls(**kw)
+        except ModelError as e:
+            failed = True
+            problems.add(f"{path}.{e.field}", e.value, e.allowed)
+            if e.field not in kw:
+                return None
+            del kw[e.field]
+            continue
+        return None if failed else obj
+    return None
+
+
+def _law(value: object, registry: Mapping[str, type], path: str, problems: Problems) -> Any:
+    """A normal or friction law from {law = "name", field = value, ...}."""
+    t = table_at(value, path, problems)
+    if t is None:
+        return None
+    names = sorted(registry)
+    name = t.get("law", MISSING)
+    if name is MISSING:
+        problems.add(f"{path}.law", MISSING, f"required field is missing; laws: {', '.join(names)}")
+        return None
+    if not isinstance(name, str) or name not in registry:
+        hint = did_you_mean(name, names)
+        problems.add(f"{path}.law", name, f"unknown law;{hint} allowed: {', '.join(names)}")
+        return None
+    cls = registry[name]
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    kwargs, ok = {}, True
+    for key, v in t.items():
+        if key == "law":
+            continue
+        if key not in fields:
+            problems.unknown(f"{path}.{key}", key, v, ["law", *fields])
+            continue
+        kwargs[key] = None if (v == AUTO and _optional(fields[key])) else v
+    for fname, f in fields.items():
+        no_default = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+        if no_default and fname not in kwargs:
+            problems.add(f"{path}.{fname}", MISSING, f"required field of law '{name}' is missing")
+            ok = False
+    law = _construct(cls, kwargs, path, problems)
+    return law if ok else None
+
+
+def _material(value: object, path: str, problems: Problems) -> Material | None:
+    t = table_at(value, path, problems)
+    if t is None:
+        return None
+    for key, v in t.items():
+        if key not in MATERIAL_FIELDS:
+            problems.unknown(f"{path}.{key}", key, v, MATERIAL_FIELDS)
+    for key in MATERIAL_FIELDS:
+        if key not in t:
+            problems.add(f"{path}.{key}", MISSING, "required field is missing (E [Pa], nu [-])")
+            return None
+    return _construct(Material, {k: t[k] for k in MATERIAL_FIELDS}, path, problems)
+
+
+def _joint(value: object, path: str, problems: Problems) -> JointSpec | None:
+    t = table_at(value, path, problems)
+    if t is None:
+        return None
+    n0 = len(problems)
+    kw = parse_table(t, JOINT_FIELDS, path, problems, extra=JOINT_TABLES)
+    laws = {"normal": (NORMAL_LAWS, Flores()), "friction": (FRICTION_LAWS, NoFriction())}
+    for key, (registry, default) in laws.items():
+        kw[key] = _law(t[key], registry, f"{path}.{key}", problems) if key in t else default
+    for key in ("ball_material", "socket_material"):
+        kw[key] = _material(t[key], f"{path}.{key}", problems) if key in t else STEEL
+    given = [k for k in ("radial_clearance", "socket_radius") if kw.get(k) is not None]
+    if not given and not any(k in t for k in ("radial_clearance", "socket_radius")):
+        problems.add(
+            f"{path}.radial_clearance", MISSING, "required: give radial_clearance or socket_radius"
+        )
+    elif len(given) == 2:
+        problems.add(
+            f"{path}.socket_radius",
+            kw["socket_radius"],
+            f"give only one of radial_clearance (= {kw['radial_clearance']}) and socket_radius",
+        )
+    if len(problems) > n0:
+        return None
+    if _construct(Clearance, kw, path, problems) is None:  # cross checks (radii, tolerance)
+        return None
+    return JointSpec(**kw)
+
+
+def _clearance(t: dict, kind: MechanismKind | None, problems: Problems) -> ClearanceSpec | None:
+    n0 = len(problems)
+    kw = parse_table(t, CLEARANCE_FIELDS, "clearance", problems, extra=("joints",))
+    joints: dict[str, JointSpec] = {}
+    jt = table_at(t.get("joints", {}), "clearance.joints", problems)
+    for name, value in (jt or {}).items():
+        path = f"clearance.joints.{name}"
+        if kind is not None and name not in kind.spherical_joints:
+            allowed = list(kind.spherical_joints)
+            problems.add(
+                path,
+                name,
+                f"unknown joint '{name}';{did_you_mean(name, allowed)} spherical joints of "
+                f"this mechanism: {', '.join(allowed)}",
+            )
+            continue
+        spec = _joint(value, path, problems)
+        if spec is not None:
+            joints[name] = spec
+    if len(problems) > n0:
+        return None
+    return ClearanceSpec(InitialPlacement(kw["initial"]), joints)
+
+
+def _mechanism(t: dict, problems: Problems) -> tuple[MechanismSpec | None, MechanismKind | None]:
+    types = [m.value for m in MechanismType]
+    mtype = t.get("type", MISSING)
+    if mtype is MISSING:
+        allowed = f"required field is missing; allowed: {', '.join(types)}"
+        problems.add("mechanism.type", MISSING, allowed)
+        return None, None
+    if mtype not in types:
+        allowed = f"unknown type;{did_you_mean(mtype, types)} allowed: {', '.join(types)}"
+        problems.add("mechanism.type", mtype, allowed)
+        return None, None
+    mt = MechanismType(mtype)
+    kind = MECHANISMS[mt]
+    spec = kind.params.spec()
+    n0, values = len(problems), {}
+    for key, v in t.items():
+        if key == "type":
+            continue
+        if key not in spec:
+            problems.unknown(f"mechanism.{key}", key, v, ["type", *spec])
+            continue
+        try:
+            values[key] = kind.params.check_field(key, v)
+        except ModelError as e:
+            problems.add(f"mechanism.{key}", v, e.allowed)
+    if len(problems) > n0:
+        return None, kind
+    params = _construct(kind.params, values, "mechanism", problems)
+    return (MechanismSpec(mt, params) if params is not None else None), kind
+
+
+def _trajectory(t: dict, kind: MechanismKind | None, problems: Problems) -> TrajectorySpec | None:
+    n0 = len(problems)
+    kw = parse_table(t, TRAJECTORY_FIELDS, "trajectory", problems, extra=("amplitude",))
+    amp: dict[str, float] = {}
+    at = table_at(t.get("amplitude", {}), "trajectory.amplitude", problems)
+    if at is not None and kind is not None:
+        units = {**dict.fromkeys(kind.positions, "m"), **dict.fromkeys(kind.angles, "rad")}
+        for key, v in at.items():
+            path = f"trajectory.amplitude.{key}"
+            if key not in units:
+                problems.unknown(path, key, v, units)
+            elif isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                problems.add(path, v, f"expected a finite number [{units[key]}]")
+            else:
+                amp[key] = float(v)
+        amp = {c: amp.get(c, 0.0) for c in units}
+    if len(problems) > n0 or kind is None:
+        return None
+    period = kw["period"] if kw["period"] is not None else kw["duration"]
+    return TrajectorySpec(TrajectoryShape(kw["shape"]), kw["duration"], period, amp)
+
+
+def _section(d: Mapping, name: str, problems: Problems, *, required: bool = False) -> dict | None:
+    if name not in d:
+        if required:
+            problems.add(name, MISSING, f"required section [{name}] is missing")
+            return None
+        return {}
+    return table_at(d[name], name, problems)
+
+
+def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Scenario:
+    """Validate a scenario dict (as read from TOML); raise ScenarioError with all problems."""
+    problems = Problems(source)
+    if not isinstance(d, Mapping):
+        raise ScenarioError(source, "(document)", d, "expected a table of sections")
+    version = d.get("format_version", MISSING)
+    if version is MISSING:
+        problems.add("format_version", MISSING, f"required; this version reads {FORMAT_VERSION}")
+    elif isinstance(version, bool) or version != FORMAT_VERSION:
+        raise ScenarioError(
+            source,
+            "format_version",
+            version,
+            f"unknown format version; this version of clearance reads format_version = "
+            f"{FORMAT_VERSION}",
+        )
+    for key, v in d.items():
+        if key not in TOP_KEYS:
+            problems.unknown(key, key, v, TOP_KEYS)
+
+    meta = mech = traj = clr = solver = output = None
+    kind = None
+    if (t := _section(d, "scenario", problems, required=True)) is not None:
+        n0, kw = len(problems), parse_table(t, SCENARIO_FIELDS, "scenario", problems)
+        meta = ScenarioMeta(**kw) if len(problems) == n0 else None
+    if (t := _section(d, "mechanism", problems, required=True)) is not None:
+        mech, kind = _mechanism(t, problems)
+    if (t := _section(d, "trajectory", problems)) is not None:
+        traj = _trajectory(t, kind, problems)
+    if (t := _section(d, "clearance", problems)) is not None:
+        clr = _clearance(t, kind, problems)
+    if (t := _section(d, "solver", problems)) is not None:
+        n0, kw = len(problems), parse_table(t, SOLVER_FIELDS, "solver", problems)
+        solver = SolverSpec(**kw) if len(problems) == n0 else None
+    if (t := _section(d, "output", problems)) is not None:
+        n0, kw = len(problems), parse_table(t, OUTPUT_FIELDS, "output", problems)
+        output = OutputSpec(**kw) if len(problems) == n0 else None
+    problems.raise_if_any()
+    return Scenario(meta, mech, traj, clr, solver, output, FORMAT_VERSION, source)  # type: ignore[arg-type]

@@ -1,0 +1,179 @@
+"""Reading and writing scenario files (TOML), and the scenarios shipped with the package.
+
+`load_scenario(path)` reads and validates a file; a TOML syntax error becomes a
+`ScenarioError` naming the file, the line, and (when the line is `key = value`) the dotted
+field and the text found. `scenario_to_toml(s)` writes the canonical form (every default
+explicit, no comments) that loads back to an equal Scenario; it is small enough to be
+stored in the attributes of a result file.
+"""
+
+from __future__ import annotations
+
+import importlib.resources
+import json
+import math
+import os
+import re
+import sys
+from collections.abc import Mapping
+from pathlib import Path
+
+from clearance.scenario.errors import ScenarioError
+from clearance.scenario.schema import Scenario, scenario_from_dict
+from clearance.scenario.serialize import scenario_to_dict
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+__all__ = [
+    "default_scenario_path",
+    "default_scenarios",
+    "dumps_toml",
+    "load_scenario",
+    "loads_scenario",
+    "read_toml",
+    "scenario_to_toml",
+]
+
+_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
+_HEADER = re.compile(r"^\s*\[\[?\s*([^\]]*?)\s*\]\]?\s*(#.*)?$")
+_KEY_LINE = re.compile(r"^\s*([A-Za-z0-9_.\"' -]+?)\s*=(.*)$")
+_AT_LINE = re.compile(r"at line (\d+), column (\d+)")
+INLINE_DEPTH = 4  # tables this deep (clearance.joints.S_1.normal) are written inline
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def _key_path(text: str) -> str:
+    """Dotted key of a TOML header or key text: 'a. "b c" .d' -> 'a.b c.d' (simple cases)."""
+    return ".".join(p.strip().strip("\"'") for p in text.split("."))
+
+
+def _syntax_error(text: str, source: str, err: tomllib.TOMLDecodeError) -> ScenarioError:
+    """A ScenarioError for a TOML syntax error: file, field at the failing line, its text."""
+    msg = str(err)
+    m = _AT_LINE.search(msg)
+    reason = msg.split(" (at ")[0]
+    if m is None:
+        return ScenarioError(source, "(end of file)", "", f"invalid TOML: {msg}")
+    lineno, col = int(m.group(1)), int(m.group(2))
+    lines = text.splitlines()
+    table = ""
+    for line in lines[: lineno - 1]:
+        h = _HEADER.match(line)
+        if h:
+            table = _key_path(h.group(1))
+    line = lines[lineno - 1] if 0 < lineno <= len(lines) else ""
+    allowed = f"invalid TOML at line {lineno}, column {col}: {reason}"
+    kv = _KEY_LINE.match(line)
+    if _HEADER.match(line) or line.lstrip().startswith("["):
+        return ScenarioError(source, f"(table header, line {lineno})", line.strip(), allowed)
+    if kv:
+        key = _key_path(kv.group(1))
+        field = f"{table}.{key}" if table else key
+        return ScenarioError(source, field, kv.group(2).strip(), allowed)
+    return ScenarioError(source, f"{table or '(top level)'} (line {lineno})", line.strip(), allowed)
+
+
+def read_toml(path: str | os.PathLike) -> dict:
+    """The raw dict of a TOML file; ScenarioError for a missing file or bad syntax."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise ScenarioError(str(p), "(file)", str(p), "file not found") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise ScenarioError(
+            str(p), "(file)", str(p), f"cannot read a UTF-8 text file: {e}"
+        ) from None
+    return _loads(text, str(p))
+
+
+def _loads(text: str, source: str) -> dict:
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise _syntax_error(text, source, e) from None
+
+
+def loads_scenario(text: str, *, source: str = "<string>") -> Scenario:
+    """Validate a scenario given as TOML text."""
+    return scenario_from_dict(_loads(text, source), source=source)
+
+
+def load_scenario(path: str | os.PathLike) -> Scenario:
+    """Read and validate a scenario file; ScenarioError lists every problem found."""
+    return scenario_from_dict(read_toml(path), source=str(path))
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def _key(k: str) -> str:
+    return k if _BARE_KEY.fullmatch(k) else json.dumps(k, ensure_ascii=False)
+
+
+def _value(v: object) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if math.isnan(v):
+            return "nan"
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)  # shortest round-trip repr; always a valid TOML float
+    if isinstance(v, str):
+        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    if isinstance(v, Mapping):
+        return "{" + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items()) + "}"
+    raise TypeError(f"cannot write {type(v).__name__} {v!r} to TOML")
+
+
+def _table(path: list[str], d: Mapping, out: list[str]) -> None:
+    inline = len(path) + 1 >= INLINE_DEPTH
+    scalars = [(k, v) for k, v in d.items() if not isinstance(v, Mapping) or inline]
+    tables = [(k, v) for k, v in d.items() if isinstance(v, Mapping) and not inline]
+    if path and (scalars or not tables):
+        out.append("")
+        out.append("[" + ".".join(_key(p) for p in path) + "]")
+    out.extend(f"{_key(k)} = {_value(v)}" for k, v in scalars)
+    for k, v in tables:
+        _table([*path, k], v, out)
+
+
+def dumps_toml(d: Mapping) -> str:
+    """TOML text of a dict of scalars, lists and tables (deep tables written inline)."""
+    out: list[str] = []
+    _table([], d, out)
+    return "\n".join(out).lstrip("\n") + "\n"
+
+
+def scenario_to_toml(s: Scenario) -> str:
+    """The canonical TOML text of a scenario (loads back to an equal Scenario)."""
+    return dumps_toml(scenario_to_dict(s))
+
+
+# --------------------------------------------------------------------------- shipped files
+
+
+def default_scenarios() -> tuple[str, ...]:
+    """Names of the scenario files shipped in clearance/data."""
+    data = importlib.resources.files("clearance") / "data"
+    return tuple(sorted(p.name[:-5] for p in data.iterdir() if p.name.endswith(".toml")))
+
+
+def default_scenario_path(name: str = "ups_upu") -> Path:
+    """Path of a shipped scenario file ("ups_upu": 4UPS-UPU, "sps_cu": 4-SPS/CU)."""
+    names = default_scenarios()
+    if name not in names:
+        raise ScenarioError(
+            "clearance/data", "name", name, f"unknown shipped scenario; allowed: {names}"
+        )
+    return Path(os.fspath(importlib.resources.files("clearance") / "data" / f"{name}.toml"))
