@@ -532,3 +532,11 @@ def test_docs_example_validates() -> None:
     blocks = re.findall(r"```toml\n(.*?)```", DOCS.read_text(), flags=re.S)
     s = loads_scenario(blocks[0], source="docs")
     assert s.mechanism.params.platform_mass == 12.0
+
+
+def test_sps_cu_params_checks() -> None:
+    assert SpsCuParams.from_mapping({"column_length": 1.0, "column_top": 0.5}).column_top == 0.5
+    with pytest.raises(cl.ModelError, match="column_top"):
+        SpsCuParams(column_top=0.5)  # column_length 0.8: the top end is 0.4 above the centre
+    with pytest.raises(cl.ModelError, match="limb_model"):
+        SpsCuParams(limb_model="three-body")

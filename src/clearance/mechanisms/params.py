@@ -234,10 +234,13 @@ class SpsCuParams(ParamSet):
     )
 
     def _check_cross(self) -> None:
-        if not self.column_top <= self.column_length:
+        # the column's mass centre is at mid-length: the U centre is at most at its top end
+        half = 0.5 * self.column_length
+        if not self.column_top <= half * (1.0 + 1e-12):
             raise ModelError(
                 self.OWNER,
                 "column_top",
                 self.column_top,
-                f"the U centre must lie on the column: <= column_length = {self.column_length} m",
+                f"the U centre must lie on the column: <= column_length / 2 = {half} m "
+                "(mass centre at mid-length)",
             )
