@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import clearance as cl
-from clearance.contact.joint import CO_DELTA, CO_E, CO_FN, clearance_forces
+from clearance.contact.joint import CO_DELTA, CO_E, CO_FN, NWORK, clearance_forces
 from clearance.dynamics.rhs import body_states, make_work
 from clearance.model.clearance import Clearance
 from clearance.model.contact_laws import (
@@ -86,10 +86,10 @@ def contact_Q(c, y, cflag=0, cddm=0.0):
     wk.cflag[:] = cflag
     wk.cddm[:] = cddm
     body_states(c.model, y, wk)
-    Q = np.zeros((c.nb, 6))
+    wk.Q[:] = 0.0
     yd = np.zeros(c.ny)
-    clearance_forces(c.model, y, wk.bA, wk.br, wk.brd, wk.bw, wk.cflag, wk.cddm, Q, wk.cout, yd)
-    return Q, wk.cout[0].copy(), yd
+    clearance_forces(c.model, y, wk, yd)
+    return wk.Q.copy(), wk.cout[0].copy(), yd
 
 
 def test_geometry_of_hand_placed_ball():
@@ -125,7 +125,7 @@ def test_virtual_work_and_pair_power(friction):
             body_states(c.model, yy, wk)
             from clearance.contact.joint import clearance_geometry
 
-            delta = clearance_geometry(c.model, 0, wk.bA, wk.br)[2]
+            delta = clearance_geometry(c.model, 0, wk.bA, wk.br, wk.fval)[2]
             return elastic_energy(c.model.clr_law[0], c.model.clr_par[0], delta, C)
 
         h = 1e-9
@@ -145,8 +145,8 @@ def test_virtual_work_and_pair_power(friction):
     # power balance: sum over bodies of Q . v equals the pair power
     v = y[c.nq : c.nq + c.nv].reshape(2, 6)
     power = float(np.sum(Q * v))
-    dDn = yd[c.iw + 3]
-    dDt = yd[c.iw + 4]
+    dDn = yd[c.iw + NWORK]
+    dDt = yd[c.iw + NWORK + 1]
     wk = make_work(c.model)
     body_states(c.model, y, wk)
     f_el = co[6]

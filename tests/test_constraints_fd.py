@@ -44,6 +44,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import clearance as cl
+from clearance.compile.compiled import NWORK
 from clearance.dynamics.rhs import make_work
 from clearance.kinematics.analysis import Rows, evaluate_rows
 
@@ -247,7 +248,7 @@ class Scene:
 
 def random_state(rng: np.random.Generator) -> np.ndarray:
     """y = [q | v | work] with r, p (normalised), r_dot, omega' ~ N(0, 1)."""
-    y = np.zeros(13 * NB + 3)
+    y = np.zeros(13 * NB + NWORK)  # no clearance joints: q | v | work integrals
     for b in range(NB):
         q, v = q_index(b), v_index(b)
         y[q : q + 3] = rng.normal(size=3)

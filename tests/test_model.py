@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import clearance as cl
+from clearance.compile.compiled import NWORK
 
 
 def _pendulum():
@@ -63,7 +64,7 @@ def test_compile_does_not_mutate_and_describes_layout():
     before = (dict(m.bodies), dict(m.markers), dict(m.joints))
     c = cl.compile_mechanism(m)
     assert (dict(m.bodies), dict(m.markers), dict(m.joints)) == before
-    assert c.nrow == 3 and c.nv == 6 and c.ny == 13 + 3
+    assert c.nrow == 3 and c.nv == 6 and c.ny == 13 + NWORK
     text = c.describe()
     assert "lam[0:3] Spherical" in text and "rod" in text
     assert c.rows("s") == slice(0, 3)

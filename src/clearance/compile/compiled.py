@@ -3,11 +3,13 @@
 Array names carry element prefixes (`body_mass[nbody]`, `prim_kind[nprim]`, `frc_kind[nfrc]`,
 `fn_kind[nfn]`); `Model` is the namedtuple of arrays the compiled kernel reads. State layout:
 
-    y = [q (7 nb) | v (6 nb) | z (3 nclr) | W_c, W_d, W_a | D_n (nclr) | D_t (nclr)]
+    y = [q (7 nb) | v (6 nb) | z (3 nclr) | W_c, W_d, W_a, W_m, W_L | D_n (nclr) | D_t (nclr)]
     q per body: r (3), p (4) Euler parameters;  v per body: r_dot (3), omega' (3) body frame
     z: LuGre bristle vector of each clearance joint (zero for other friction laws)
     work: W_c (all constraint forces), W_d (drivers only), W_a (applied non-conservative),
-    D_n / D_t: normal-damping dissipation and friction work of each clearance joint
+    W_m (contact forces through moving attachment points), W_L (lumped-limb power
+    -1/2 omega'^T J'_dot omega'); D_n / D_t: normal-damping dissipation and friction work of
+    each clearance joint
 """
 
 from __future__ import annotations
@@ -19,21 +21,34 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
-from clearance.constraints.primitives import AB_I, AB_J, PRIM_ROWS, SB_I, SB_J, PrimKind
+from clearance.constraints.primitives import (
+    AB_I,
+    AB_J,
+    AX_I,
+    AX_J,
+    NPV,
+    PRIM_ROWS,
+    SB_I,
+    SB_J,
+    PrimKind,
+)
+from clearance.contact.joint import NWORK as _NWORK
 from clearance.contact.laws import NPAR
 from clearance.kinematics.timefn import encode_functions
 from clearance.model.bodies import GROUND
 from clearance.model.drivers import (
     DistanceDriver,
+    OffsetDriver,
     OrientationDriver,
     PositionDriver,
     PrismaticDriver,
 )
+from clearance.model.errors import ModelError
 from clearance.model.forces import PointForce, SpringDamper, Torque
 from clearance.model.joints import JointType
 from clearance.model.mechanism import Mechanism
 
-NWORK = 3  # W_c, W_d, W_a
+NWORK = _NWORK  # W_c, W_d, W_a, W_m, W_L
 
 
 class Model(NamedTuple):
@@ -50,7 +65,8 @@ class Model(NamedTuple):
     prim_bj: np.ndarray
     prim_row: np.ndarray  # (nprim,) first row
     prim_fn: np.ndarray  # (nprim,) time function index or -1
-    prim_v: np.ndarray  # (nprim, 4, 3) sb_i, sb_j, ab_i, ab_j
+    prim_v: np.ndarray  # (nprim, 6, 3) sb_i, sb_j, ab_i, ab_j, slide axis i, slide axis j
+    prim_mv: np.ndarray  # (nprim, 2) slide function of the i / j point, -1: fixed point
     prim_ix: np.ndarray  # (nprim, 8) int parameters (orientation driver)
     row_bi: np.ndarray  # (nrow,) body of J columns 0:6
     row_bj: np.ndarray  # (nrow,) body of J columns 6:12
@@ -79,6 +95,10 @@ class Model(NamedTuple):
     clr_par: np.ndarray  # (nclr, NPAR)
     clr_fric: np.ndarray  # (nclr,) FrictionLaw
     clr_fpar: np.ndarray  # (nclr, NPAR)
+    clr_mv: np.ndarray  # (nclr, 2) slide function of socket / ball centre, -1: fixed
+    clr_ax: np.ndarray  # (nclr, 2, 3) slide axes (body frames)
+    body_vfn: np.ndarray  # (nb,) length function of an InertiaVariation, -1: constant inertia
+    body_var: np.ndarray  # (nb, 5) moments (3), offset, rate term on (1) / off (0)
 
 
 @dataclass(frozen=True)
@@ -163,8 +183,8 @@ class Compiled:
             f"{self.nrow} constraint rows, {self.nv} velocity coordinates, "
             f"{nc} clearance joint(s), DOF (structural) = {self.nv - self.nrow}",
             f"state y ({self.ny}) = [q (0:{self.nq}) | v ({self.nq}:{self.nq + self.nv}) "
-            f"| z ({self.iz}:{iw}) | W_c, W_d, W_a ({iw}:{iw + 3}) "
-            f"| D_n ({iw + 3}:{iw + 3 + nc}) | D_t ({iw + 3 + nc}:{self.ny})]",
+            f"| z ({self.iz}:{iw}) | W_c, W_d, W_a, W_m, W_L ({iw}:{iw + NWORK}) "
+            f"| D_n ({iw + NWORK}:{iw + NWORK + nc}) | D_t ({iw + NWORK + nc}:{self.ny})]",
             "bodies:",
         ]
         for k, n in enumerate(self.body_names):
@@ -212,6 +232,7 @@ class _Builder:
         self.nrow = 0
         self.row_drv: list = []
         self.funcs: list = []
+        self.slide_fn: dict = {}
 
     def body(self, name: str) -> int:
         return -1 if name == GROUND else self.bidx[name]
@@ -221,14 +242,33 @@ class _Builder:
         return len(self.funcs) - 1
 
     def prim(
-        self, kind, bi, bj, *, sbi=None, sbj=None, abi=None, abj=None, fn=-1, ix=None, driver=False
+        self,
+        kind,
+        bi,
+        bj,
+        *,
+        sbi=None,
+        sbj=None,
+        abi=None,
+        abj=None,
+        fn=-1,
+        ix=None,
+        driver=False,
+        mi=None,
+        mj=None,
     ) -> None:
-        v = np.zeros((4, 3))
+        """Add a primitive; mi/mj name the markers of its points (for sliding markers)."""
+        v = np.zeros((NPV, 3))
         for slot, x in ((SB_I, sbi), (SB_J, sbj), (AB_I, abi), (AB_J, abj)):
             if x is not None:
                 v[slot] = x
+        mv = np.array([-1, -1], dtype=np.int64)
+        for side, (slot, name) in enumerate(((AX_I, mi), (AX_J, mj))):
+            if name is not None:
+                mv[side], ax = self.slide(name)
+                v[slot] = ax
         ixa = np.zeros(8, dtype=np.int64) if ix is None else np.asarray(ix, dtype=np.int64)
-        self.prims.append((int(kind), bi, bj, self.nrow, fn, v, ixa))
+        self.prims.append((int(kind), bi, bj, self.nrow, fn, v, ixa, mv))
         n = PRIM_ROWS[kind]
         self.row_drv.extend([1 if driver else 0] * n)
         self.nrow += n
@@ -236,6 +276,15 @@ class _Builder:
     def marker(self, name: str):
         m = self.mech.markers[name]
         return self.body(m.body), np.array(m.position), np.array(m.orientation)
+
+    def slide(self, name: str) -> tuple[int, np.ndarray]:
+        """(function index or -1, body-frame axis) of a marker's moving attachment."""
+        m = self.mech.markers[name]
+        if m.slide is None:
+            return -1, np.zeros(3)
+        if name not in self.slide_fn:
+            self.slide_fn[name] = self.fn(m.slide)
+        return self.slide_fn[name], np.array(m.slide_axis)
 
 
 def _joint_prims(b: _Builder, jt) -> None:
@@ -247,7 +296,7 @@ def _joint_prims(b: _Builder, jt) -> None:
     if getattr(jt, "clearance", None) is not None:
         return  # a force element, no rows (physics.md f)
     if k in (JointType.SPHERICAL, JointType.UNIVERSAL, JointType.REVOLUTE, JointType.FIXED):
-        b.prim(PrimKind.SPHERICAL, bi, bj, sbi=pi, sbj=pj)
+        b.prim(PrimKind.SPHERICAL, bi, bj, sbi=pi, sbj=pj, mi=jt.marker_i, mj=jt.marker_j)
     if k == JointType.UNIVERSAL:
         b.prim(PrimKind.DOT1, bi, bj, abi=hi, abj=hj)
     elif k == JointType.REVOLUTE:
@@ -256,8 +305,8 @@ def _joint_prims(b: _Builder, jt) -> None:
     elif k in (JointType.CYLINDRICAL, JointType.PRISMATIC):
         b.prim(PrimKind.DOT1, bi, bj, abi=fi, abj=hj)
         b.prim(PrimKind.DOT1, bi, bj, abi=gi, abj=hj)
-        b.prim(PrimKind.DOT2, bi, bj, sbi=pi, sbj=pj, abi=fi)
-        b.prim(PrimKind.DOT2, bi, bj, sbi=pi, sbj=pj, abi=gi)
+        b.prim(PrimKind.DOT2, bi, bj, sbi=pi, sbj=pj, abi=fi, mi=jt.marker_i, mj=jt.marker_j)
+        b.prim(PrimKind.DOT2, bi, bj, sbi=pi, sbj=pj, abi=gi, mi=jt.marker_i, mj=jt.marker_j)
         if k == JointType.PRISMATIC:
             b.prim(PrimKind.DOT1, bi, bj, abi=fi, abj=gj)
     elif k == JointType.FIXED:
@@ -273,14 +322,49 @@ def _driver_prims(b: _Builder, d) -> tuple[str, str]:
         bi, pi, Ti = b.marker(jt.marker_i)
         bj, pj, _ = b.marker(jt.marker_j)
         b.prim(
-            PrimKind.DOT2, bi, bj, sbi=pi, sbj=pj, abi=Ti[:, 2], fn=b.fn(d.function), driver=True
+            PrimKind.DOT2,
+            bi,
+            bj,
+            sbi=pi,
+            sbj=pj,
+            abi=Ti[:, 2],
+            fn=b.fn(d.function),
+            driver=True,
+            mi=jt.marker_i,
+            mj=jt.marker_j,
         )
         return mech.markers[jt.marker_i].body, mech.markers[jt.marker_j].body
     if isinstance(d, DistanceDriver):
         bi, pi, _ = b.marker(d.marker_i)
         bj, pj, _ = b.marker(d.marker_j)
         kind = PrimKind.DISTANCE2 if d.squared else PrimKind.DISTANCE
-        b.prim(kind, bi, bj, sbi=pi, sbj=pj, fn=b.fn(d.function), driver=True)
+        b.prim(
+            kind,
+            bi,
+            bj,
+            sbi=pi,
+            sbj=pj,
+            fn=b.fn(d.function),
+            driver=True,
+            mi=d.marker_i,
+            mj=d.marker_j,
+        )
+        return mech.markers[d.marker_i].body, mech.markers[d.marker_j].body
+    if isinstance(d, OffsetDriver):
+        bi, pi, Ti = b.marker(d.marker_i)
+        bj, pj, _ = b.marker(d.marker_j)
+        b.prim(
+            PrimKind.DOT2,
+            bi,
+            bj,
+            sbi=pi,
+            sbj=pj,
+            abi=Ti[:, 2],
+            fn=b.fn(d.function),
+            driver=True,
+            mi=d.marker_i,
+            mj=d.marker_j,
+        )
         return mech.markers[d.marker_i].body, mech.markers[d.marker_j].body
     if isinstance(d, PositionDriver):
         bj, pj, _ = b.marker(d.marker)
@@ -293,6 +377,7 @@ def _driver_prims(b: _Builder, d) -> tuple[str, str]:
             abi=np.array(d.axis),
             fn=b.fn(d.function),
             driver=True,
+            mj=d.marker,
         )
         return GROUND, mech.markers[d.marker].body
     if isinstance(d, OrientationDriver):
@@ -311,6 +396,19 @@ def _force_arrays(b: _Builder):
     mech = b.mech
     kinds, bis, bjs, vs, pars, fns = [], [], [], [], [], []
     for f in mech.forces.values():
+        for mname in (
+            getattr(f, "marker", None),
+            getattr(f, "marker_i", None),
+            getattr(f, "marker_j", None),
+        ):
+            if mname is not None and mech.markers[mname].slide is not None:
+                raise ModelError(
+                    f"{type(f).__name__} '{f.name}'",
+                    "marker",
+                    mname,
+                    "forces at sliding (moving-attachment) markers are not "
+                    "supported; attach the force to a fixed marker",
+                )
         v = np.zeros((3, 3))
         par = np.zeros(4)
         bj = -1
@@ -368,6 +466,8 @@ def _clearance_arrays(b: _Builder) -> tuple[dict, list]:
             m_eff=_effective_mass(mech, ms, mb),
         )
         fric, fpar = cl.friction.encode()
+        fs, axs = b.slide(ms)
+        fb, axb = b.slide(mb)
         rows.append(
             (
                 bs,
@@ -380,6 +480,8 @@ def _clearance_arrays(b: _Builder) -> tuple[dict, list]:
                 np.asarray(par, float),
                 int(fric),
                 np.asarray(fpar, float),
+                (fs, fb),
+                np.array([axs, axb]),
             )
         )
         info.append(
@@ -412,6 +514,8 @@ def _clearance_arrays(b: _Builder) -> tuple[dict, list]:
         clr_par=col(7, shape=(npar,)),
         clr_fric=col(8, np.int64),
         clr_fpar=col(9, shape=(npar,)),
+        clr_mv=col(10, np.int64, shape=(2,)),
+        clr_ax=col(11, shape=(2, 3)),
     )
     return arrays, info
 
@@ -480,7 +584,8 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
     prim_bj = np.array([p[2] for p in b.prims], dtype=np.int64)
     prim_row = np.array([p[3] for p in b.prims], dtype=np.int64)
     prim_fn = np.array([p[4] for p in b.prims], dtype=np.int64)
-    prim_v = np.array([p[5] for p in b.prims]).reshape(npr, 4, 3)
+    prim_v = np.array([p[5] for p in b.prims]).reshape(npr, NPV, 3)
+    prim_mv = np.array([p[7] for p in b.prims], dtype=np.int64).reshape(npr, 2)
     prim_ix = np.array([p[6] for p in b.prims], dtype=np.int64).reshape(npr, 8)
     row_bi = np.empty(b.nrow, dtype=np.int64)
     row_bj = np.empty(b.nrow, dtype=np.int64)
@@ -499,9 +604,29 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
     flat = [e for x in lists for e in x]
     brow_idx = np.array([e[0] for e in flat], dtype=np.int64)
     brow_slot = np.array([e[1] for e in flat], dtype=np.int64)
+    bodies = list(mech.bodies.values())
+    # functions must all be registered before encoding
+    body_vfn = np.array(
+        [
+            -1 if bd.inertia_variation is None else b.fn(bd.inertia_variation.length)
+            for bd in bodies
+        ],
+        dtype=np.int64,
+    )
+    body_var = np.array(
+        [
+            (0.0, 0.0, 0.0, 0.0, 0.0)
+            if bd.inertia_variation is None
+            else (
+                *bd.inertia_variation.moments,
+                bd.inertia_variation.offset,
+                float(bd.inertia_variation.rate_term),
+            )
+            for bd in bodies
+        ]
+    ).reshape(len(bodies), 5)
     fn_kind, fn_ptr, fn_data = encode_functions(b.funcs)
     row_pos = _factor_order(b.nrow, lists)
-    bodies = list(mech.bodies.values())
     body_J = np.array([bd.inertia_matrix for bd in bodies]).reshape(nb, 3, 3)
     model = Model(
         nb=nb,
@@ -509,6 +634,8 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         body_mass=np.array([bd.mass for bd in bodies]),
         body_J=body_J,
         body_Jinv=np.linalg.inv(body_J) if nb else body_J.copy(),
+        body_vfn=body_vfn,
+        body_var=body_var,
         gravity=np.array(mech.gravity, dtype=float),
         prim_kind=prim_kind,
         prim_bi=prim_bi,
@@ -516,6 +643,7 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         prim_row=prim_row,
         prim_fn=prim_fn,
         prim_v=prim_v,
+        prim_mv=prim_mv,
         prim_ix=prim_ix,
         row_bi=row_bi,
         row_bj=row_bj,

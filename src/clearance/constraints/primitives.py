@@ -47,7 +47,24 @@ PRIM_ROWS = {
 }
 
 # prim_v slots (body components of the owning body; world components for the ground)
-SB_I, SB_J, AB_I, AB_J = 0, 1, 2, 3
+SB_I, SB_J, AB_I, AB_J, AX_I, AX_J = 0, 1, 2, 3, 4, 5
+NPV = 6
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def moving_point(sb0, ax, fn, fval):
+    """(sb, sb_dot, sb_ddot) of an attachment point sb(t) = sb0 + ax f(t) (body frame);
+    fn < 0: a fixed point."""
+    if fn < 0:
+        return (sb0[0], sb0[1], sb0[2]), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    f = fval[fn, 0]
+    fd = fval[fn, 1]
+    fdd = fval[fn, 2]
+    return (
+        (sb0[0] + ax[0] * f, sb0[1] + ax[1] * f, sb0[2] + ax[2] * f),
+        (ax[0] * fd, ax[1] * fd, ax[2] * fd),
+        (ax[0] * fdd, ax[1] * fdd, ax[2] * fdd),
+    )
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -152,22 +169,34 @@ def eval_primitives(model, bA, br, brd, bw, fval, phi, phit, gam, J):
                 + fdd
             )
             continue
-        # point-based primitives
-        si = matvec(Ai, model.prim_v[k, SB_I])
-        sj = matvec(Aj, model.prim_v[k, SB_J])
+        # point-based primitives; attachment points may slide along a body axis with a time
+        # function (rheonomic, physics.md c.2 "moving attachment point")
+        sbi, ui_b, ai_b = moving_point(
+            model.prim_v[k, SB_I], model.prim_v[k, AX_I], model.prim_mv[k, 0], fval
+        )
+        sbj, uj_b, aj_b = moving_point(
+            model.prim_v[k, SB_J], model.prim_v[k, AX_J], model.prim_mv[k, 1], fval
+        )
+        si = matvec(Ai, sbi)
+        sj = matvec(Aj, sbj)
+        ui = matvec(Ai, ui_b)  # A sb_dot: velocity of the point relative to its body
+        uj = matvec(Aj, uj_b)
         d = sub(add((br[j, 0], br[j, 1], br[j, 2]), sj), add((br[i, 0], br[i, 1], br[i, 2]), si))
         dd = sub(
-            add((brd[j, 0], brd[j, 1], brd[j, 2]), cross(wj, sj)),
-            add((brd[i, 0], brd[i, 1], brd[i, 2]), cross(wi, si)),
+            add((brd[j, 0], brd[j, 1], brd[j, 2]), add(cross(wj, sj), uj)),
+            add((brd[i, 0], brd[i, 1], brd[i, 2]), add(cross(wi, si), ui)),
         )
-        acc = sub(ww(wj, sj), ww(wi, si))  # centripetal part of d_ddot
+        du = sub(uj, ui)  # explicit-time part of d_dot
+        # velocity-quadratic and explicit-time part of d_ddot: w x (w x s) + 2 w x u + A sb_ddot
+        acc = sub(
+            add(ww(wj, sj), add(scale(2.0, cross(wj, uj)), matvec(Aj, aj_b))),
+            add(ww(wi, si), add(scale(2.0, cross(wi, ui)), matvec(Ai, ai_b))),
+        )
         if kind == PrimKind.SPHERICAL:
-            sbi = model.prim_v[k, SB_I]
-            sbj = model.prim_v[k, SB_J]
             for a in range(3):
                 ra = r + a
                 phi[ra] = d[a]
-                phit[ra] = 0.0
+                phit[ra] = du[a]
                 gam[ra] = -acc[a]
                 J[ra, a] = -1.0
                 J[ra, 6 + a] = 1.0
@@ -181,7 +210,7 @@ def eval_primitives(model, bA, br, brd, bw, fval, phi, phit, gam, J):
             _put(J, r, 3, mattvec(Ai, cross(ai, add(d, si))))
             _put(J, r, 6, ai)
             _put(J, r, 9, mattvec(Aj, cross(sj, ai)))
-            phit[r] = -fd
+            phit[r] = -fd + dot(ai, du)
             gam[r] = -(dot(d, ww(wi, ai)) + 2.0 * dot(cross(wi, ai), dd) + dot(ai, acc)) + fdd
         elif kind == PrimKind.DISTANCE:
             ln = math.sqrt(dot(d, d))
@@ -191,7 +220,7 @@ def eval_primitives(model, bA, br, brd, bw, fval, phi, phit, gam, J):
             _put(J, r, 3, mattvec(Ai, cross(u, si)))
             _put(J, r, 6, u)
             _put(J, r, 9, mattvec(Aj, cross(sj, u)))
-            phit[r] = -fd
+            phit[r] = -fd + dot(u, du)
             ud = dot(u, dd)
             gam[r] = -((dot(dd, dd) - ud * ud) / ln + dot(u, acc)) + fdd
         else:  # DISTANCE2
@@ -200,5 +229,5 @@ def eval_primitives(model, bA, br, brd, bw, fval, phi, phit, gam, J):
             _put(J, r, 3, scale(2.0, mattvec(Ai, cross(d, si))))
             _put(J, r, 6, scale(2.0, d))
             _put(J, r, 9, scale(2.0, mattvec(Aj, cross(sj, d))))
-            phit[r] = -2.0 * f * fd
+            phit[r] = -2.0 * f * fd + 2.0 * dot(d, du)
             gam[r] = -2.0 * (dot(dd, dd) + dot(d, acc)) + 2.0 * (fd * fd + f * fdd)

@@ -30,19 +30,24 @@ def add_force(Q, b, bA, F, s_w):
 
 
 @njit(cache=True, error_model="numpy")
-def applied_forces(model, y, bA, br, brd, bw, fval, Q):
-    """Fill Q (nb, 6); return the power of the non-conservative applied forces [W].
+def applied_forces(model, y, wk):
+    """Fill wk.Q (nb, 6); return (power of the non-conservative applied forces, lumped-limb
+    power P_L) [W].
 
-    Gravity and spring elasticity are conservative (their energy is in V); the power
-    returned covers point forces, torques, dampers and actuators (the W_a rate).
+    Gravity and spring elasticity are conservative (their energy is in V); the first power
+    covers point forces, torques, dampers and actuators (the W_a rate). A body with a
+    time-dependent inertia gets -J'_dot omega' in its Euler equation (physics.md i), whose
+    effect on the kinetic energy is P_L = -1/2 omega'^T J'_dot omega' (physics.md j).
     """
     nb = model.nb
     off = 7 * nb
+    Q = wk.Q
+    bA, br, brd, bw, fval = wk.bA, wk.br, wk.brd, wk.bw, wk.fval
+    p_limb = 0.0
     for b in range(nb):
         m = model.body_mass[b]
-        Jb = model.body_J[b]
         w = (y[off + 6 * b + 3], y[off + 6 * b + 4], y[off + 6 * b + 5])
-        Jw = matvec(Jb, w)
+        Jw = matvec(wk.bJ[b], w)
         gyro = cross(w, Jw)
         Q[b, 0] = m * model.gravity[0]
         Q[b, 1] = m * model.gravity[1]
@@ -50,6 +55,12 @@ def applied_forces(model, y, bA, br, brd, bw, fval, Q):
         Q[b, 3] = -gyro[0]
         Q[b, 4] = -gyro[1]
         Q[b, 5] = -gyro[2]
+        if model.body_vfn[b] >= 0:
+            on = model.body_var[b, 4]  # 1: exact Euler equation with J'_dot omega'
+            for a in range(3):
+                Q[b, 3 + a] -= on * wk.bJd[b, a] * w[a]
+                # d/dt (1/2 w J w) = w . n' + (1/2 - on) w J_dot w  (physics.md i, j)
+                p_limb += (0.5 - on) * wk.bJd[b, a] * w[a] * w[a]
     power = 0.0
     for k in range(model.frc_kind.shape[0]):
         kind = model.frc_kind[k]
@@ -93,7 +104,7 @@ def applied_forces(model, y, bA, br, brd, bw, fval, Q):
             add_force(Q, j, bA, scale(-tension, u), sj)
             add_force(Q, i, bA, scale(tension, u), si)
             power -= tension_nc * ldot
-    return power
+    return power, p_limb
 
 
 @njit(cache=True, error_model="numpy")
@@ -121,13 +132,13 @@ def potential_energy(model, y, bA, br):
 
 
 @njit(cache=True, error_model="numpy")
-def kinetic_energy(model, y):
-    """T = sum 1/2 m |r_dot|^2 + 1/2 omega'^T J' omega' [J]."""
+def kinetic_energy(model, y, bJ):
+    """T = sum 1/2 m |r_dot|^2 + 1/2 omega'^T J' omega' [J], with the current inertia bJ."""
     nb = model.nb
     off = 7 * nb
     T = 0.0
     for b in range(nb):
         v = (y[off + 6 * b], y[off + 6 * b + 1], y[off + 6 * b + 2])
         w = (y[off + 6 * b + 3], y[off + 6 * b + 4], y[off + 6 * b + 5])
-        T += 0.5 * model.body_mass[b] * dot(v, v) + 0.5 * dot(w, matvec(model.body_J[b], w))
+        T += 0.5 * model.body_mass[b] * dot(v, v) + 0.5 * dot(w, matvec(bJ[b], w))
     return T

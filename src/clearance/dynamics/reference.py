@@ -365,12 +365,23 @@ def reference_rhs(
     """y_dot and lam of the augmented equations of motion, plain NumPy (physics.md d.1).
 
     mech: the description (bodies, markers, joints, drivers, forces, gravity).
-    t: time [s].  y: (13 nb + 3,) state, layout of the module docstring.
-    alpha, beta: Baumgarte parameters [1/s] (physics.md d.2).
-    Returns (y_dot (13 nb + 3,), lam (m,)); lam in N or N m per row (Q_c = -phi_q^T lam).
+    t: time [s].  y: (13 nb + 5,) state (q | v | W_c, W_d, W_a, W_m, W_L), the compiled
+    layout of a mechanism without clearance joints. alpha, beta: Baumgarte parameters [1/s]
+    (physics.md d.2). Returns (y_dot, lam (m,)); lam in N or N m per row (Q_c = -phi_q^T lam).
+    Clearance joints, sliding markers and varying inertias are outside this reference (they
+    have their own oracles: virtual work, energy balance, finite differences).
     """
     y = np.asarray(y, dtype=float)
     nb = mech.nbody
+    for jt in mech.joints.values():
+        if getattr(jt, "clearance", None) is not None:
+            raise NotImplementedError(f"reference_rhs: joint {jt.name!r} has a clearance")
+    for mk in mech.markers.values():
+        if mk.slide is not None:
+            raise NotImplementedError(f"reference_rhs: marker {mk.name!r} slides")
+    for bd in mech.bodies.values():
+        if bd.inertia_variation is not None:
+            raise NotImplementedError(f"reference_rhs: body {bd.name!r} has varying inertia")
     nv = 6 * nb
     kin = _Kin(mech, y)
     phi, phi_q, phi_t, gamma, is_drv = _rows(kin, mech, t)
@@ -387,7 +398,7 @@ def reference_rhs(
     K[nv:, :nv] = phi_q
     x = np.linalg.solve(K, np.concatenate([Q, gamma_b]))
     v_dot, lam = x[:nv], x[nv:]
-    ydot = np.zeros(13 * nb + 3)
+    ydot = np.zeros(13 * nb + 5)  # W_m = W_L = 0 without sliding markers/varying inertia
     for k in range(nb):
         p = y[7 * k + 3 : 7 * k + 7]
         w_b = v[6 * k + 3 : 6 * k + 6]

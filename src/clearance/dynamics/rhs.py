@@ -42,10 +42,12 @@ class Work(NamedTuple):
     Q: np.ndarray  # (nb, 6)
     MiQ: np.ndarray  # (nb, 6)
     vd: np.ndarray  # (nb, 6)
-    scal: np.ndarray  # (4,) power of applied forces, constraint power, driver power, spare
     cflag: np.ndarray  # (nclr,) int: 1 while clearance joint k is in contact (discrete state)
     cddm: np.ndarray  # (nclr,) impact velocity latched at onset [m/s] (discrete state)
     cout: np.ndarray  # (nclr, NCOUT) contact diagnostics of the last evaluation
+    bJ: np.ndarray  # (nb, 3, 3) current inertia J'(t) (constant unless InertiaVariation)
+    bJinv: np.ndarray  # (nb, 3, 3) its inverse
+    bJd: np.ndarray  # (nb, 3) diagonal of J'_dot (the variation is diagonal in body axes)
 
 
 def make_work(model) -> Work:
@@ -72,10 +74,12 @@ def make_work(model) -> Work:
         Q=np.zeros((nb, 6)),
         MiQ=np.zeros((nb, 6)),
         vd=np.zeros((nb, 6)),
-        scal=np.zeros(4),
         cflag=np.zeros(model.nclr, dtype=np.int64),
         cddm=np.zeros(model.nclr),
         cout=np.zeros((model.nclr, NCOUT)),
+        bJ=np.array(model.body_J, dtype=float).reshape(nb, 3, 3),
+        bJinv=np.array(model.body_Jinv, dtype=float).reshape(nb, 3, 3),
+        bJd=np.zeros((nb, 3)),
     )
 
 
@@ -96,10 +100,33 @@ def body_states(model, y, wk):
 
 
 @njit(cache=True, error_model="numpy")
+def update_inertia(model, wk):
+    """J'(t) = J'_0 + diag(k) (l(t) - a)^2 and J'_dot for InertiaVariation bodies (physics.md
+    i); needs wk.fval evaluated at t."""
+    for b in range(model.nb):
+        fn = model.body_vfn[b]
+        if fn < 0:
+            continue
+        x = wk.fval[fn, 0] - model.body_var[b, 3]
+        xd = wk.fval[fn, 1]
+        for a in range(3):
+            for c in range(3):
+                wk.bJ[b, a, c] = model.body_J[b, a, c]
+            k = model.body_var[b, a]
+            wk.bJ[b, a, a] += k * x * x
+            wk.bJd[b, a] = 2.0 * k * x * xd
+        wk.bJinv[b] = np.linalg.inv(wk.bJ[b])
+
+
+@njit(cache=True, error_model="numpy")
 def constraint_rows(model, t, y, wk):
-    """Kinematics of all constraint rows: phi, phi_t, gamma, J and phi_dot = J v + phi_t."""
+    """Kinematics of all constraint rows: phi, phi_t, gamma, J and phi_dot = J v + phi_t.
+
+    Also evaluates the time functions and the time-dependent inertias at t (every later
+    stage of the evaluation reads them from wk)."""
     body_states(model, y, wk)
     eval_all(model.fn_kind, model.fn_ptr, model.fn_data, t, wk.fval)
+    update_inertia(model, wk)
     eval_primitives(model, wk.bA, wk.br, wk.brd, wk.bw, wk.fval, wk.phi, wk.phit, wk.gam, wk.J)
     off = 7 * model.nb
     for r in range(model.nrow):
@@ -121,18 +148,15 @@ def rhs(t, y, model, wk, alpha, beta, solver, ydot):
     nb = model.nb
     m = model.nrow
     constraint_rows(model, t, y, wk)
-    wk.scal[0] = applied_forces(model, y, wk.bA, wk.br, wk.brd, wk.bw, wk.fval, wk.Q)
+    p_applied, p_limb = applied_forces(model, y, wk)
+    p_moving = 0.0
     if model.nclr > 0:
-        clearance_forces(
-            model, y, wk.bA, wk.br, wk.brd, wk.bw, wk.cflag, wk.cddm, wk.Q, wk.cout, ydot
-        )
+        p_moving = clearance_forces(model, y, wk, ydot)
     # Baumgarte stabilisation: the only place it enters (physics.md d.2)
     b2 = beta * beta
     for r in range(m):
         wk.gB[r] = wk.gam[r] - 2.0 * alpha * wk.phid[r] - b2 * wk.phi[r]
-    status = solve_constrained(
-        model, wk.J, wk.gB, wk.Q, solver, wk.JM, wk.S, wk.first, wk.rl, wk.lam, wk.MiQ, wk.vd
-    )
+    status = solve_constrained(model, wk, solver)
     off = 7 * nb
     for b in range(nb):
         q = 7 * b
@@ -155,10 +179,10 @@ def rhs(t, y, model, wk, alpha, beta, solver, ydot):
         pc += p
         if model.row_drv[r] == 1:
             pd_ += p
-    wk.scal[1] = pc
-    wk.scal[2] = pd_
     w0 = 13 * nb + 3 * model.nclr
-    ydot[w0] = pc
-    ydot[w0 + 1] = pd_
-    ydot[w0 + 2] = wk.scal[0]
+    ydot[w0] = pc  # W_c
+    ydot[w0 + 1] = pd_  # W_d
+    ydot[w0 + 2] = p_applied  # W_a
+    ydot[w0 + 3] = p_moving  # W_m
+    ydot[w0 + 4] = p_limb  # W_L
     return status

@@ -28,7 +28,7 @@ class Solver(IntEnum):
 
 
 @njit(cache=True, error_model="numpy")
-def _minv_blocks(model, J, JM, Q, MiQ):
+def _minv_blocks(model, Jinv, J, JM, Q, MiQ):
     """JM = M^-1 J^T (row blocks) and MiQ = M^-1 Q."""
     m = model.nrow
     for r in range(m):
@@ -40,7 +40,7 @@ def _minv_blocks(model, J, JM, Q, MiQ):
                     JM[r, o + k] = 0.0
                 continue
             im = 1.0 / model.body_mass[b]
-            Ji = model.body_Jinv[b]
+            Ji = Jinv[b]
             JM[r, o] = im * J[r, o]
             JM[r, o + 1] = im * J[r, o + 1]
             JM[r, o + 2] = im * J[r, o + 2]
@@ -50,7 +50,7 @@ def _minv_blocks(model, J, JM, Q, MiQ):
                 )
     for b in range(model.nb):
         im = 1.0 / model.body_mass[b]
-        Ji = model.body_Jinv[b]
+        Ji = Jinv[b]
         MiQ[b, 0] = im * Q[b, 0]
         MiQ[b, 1] = im * Q[b, 1]
         MiQ[b, 2] = im * Q[b, 2]
@@ -137,18 +137,40 @@ def envelope_solve(L, m, first, x):
 
 
 @njit(cache=True, error_model="numpy")
-def solve_constrained(model, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
+def solve_constrained(model, wk, solver):
+    """Solve for v_dot (wk.vd) and lam (wk.lam) from wk.J, wk.gB, wk.Q with the current
+    inertia wk.bJ / wk.bJinv; return 0, or 1 if the constraint matrix is singular."""
+    return _solve(
+        model,
+        wk.bJ,
+        wk.bJinv,
+        wk.J,
+        wk.gB,
+        wk.Q,
+        solver,
+        wk.JM,
+        wk.S,
+        wk.first,
+        wk.rl,
+        wk.lam,
+        wk.MiQ,
+        wk.vd,
+    )
+
+
+@njit(cache=True, error_model="numpy")
+def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
     """Solve the augmented system for v_dot (vd, (nb, 6)) and lam; return 0 or 1 (singular)."""
     m = model.nrow
     nb = model.nb
-    _minv_blocks(model, J, JM, Q, MiQ)
+    _minv_blocks(model, Jinv, J, JM, Q, MiQ)
     for b in range(nb):
         for k in range(6):
             vd[b, k] = MiQ[b, k]
     if m == 0:
         return 0
     if solver == 1:
-        return _solve_dense(model, J, gB, Q, lam, vd)
+        return _solve_dense(model, Jb, J, gB, Q, lam, vd)
     # right-hand side J M^-1 Q - gamma_B, in factor order
     for r in range(m):
         s = -gB[r]
@@ -199,7 +221,7 @@ def solve_constrained(model, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
 
 
 @njit(cache=True, error_model="numpy")
-def _solve_dense(model, J, gB, Q, lam, vd):
+def _solve_dense(model, Jb, J, gB, Q, lam, vd):
     """Dense augmented LU (the fallback and validator)."""
     nb = model.nb
     m = model.nrow
@@ -212,7 +234,7 @@ def _solve_dense(model, J, gB, Q, lam, vd):
         for a in range(3):
             K[o + a, o + a] = model.body_mass[b]
             for c in range(3):
-                K[o + 3 + a, o + 3 + c] = model.body_J[b, a, c]
+                K[o + 3 + a, o + 3 + c] = Jb[b, a, c]
         for k in range(6):
             rhs[o + k] = Q[b, k]
     for r in range(m):

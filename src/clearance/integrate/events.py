@@ -17,11 +17,12 @@ import math
 
 from numba import njit
 
-from clearance.contact.joint import clearance_geometry
+from clearance.contact.joint import _centres, clearance_geometry
 from clearance.contact.laws import FrictionLaw
 from clearance.dynamics.rhs import body_states
 from clearance.integrate.tableau import DP5_P
-from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
+from clearance.kinematics.rotations import add, cross, dot, mattvec, scale, sub
+from clearance.kinematics.timefn import eval_all
 
 NLOG = 7
 _LUGRE = int(FrictionLaw.LUGRE)
@@ -45,9 +46,10 @@ def interpolate(y, K, h, x, out):
 
 
 @njit(cache=True, error_model="numpy")
-def _delta(model, wk, k, yv):
+def _delta(model, wk, k, t, yv):
     body_states(model, yv, wk)
-    return clearance_geometry(model, k, wk.bA, wk.br)[2]
+    eval_all(model.fn_kind, model.fn_ptr, model.fn_data, t, wk.fval)  # moving centres
+    return clearance_geometry(model, k, wk.bA, wk.br, wk.fval)[2]
 
 
 @njit(cache=True, error_model="numpy")
@@ -57,7 +59,7 @@ def _wants(flag, d):
 
 
 @njit(cache=True, error_model="numpy")
-def locate_event(model, wk, y, K, h, ytmp):
+def locate_event(model, wk, t, y, K, h, ytmp):
     """Earliest contact event inside the step (x in (0, 1]) and its joint, or (2.0, -1).
 
     The returned x is on the far side of the crossing with |delta| <= tol * c (or the
@@ -69,7 +71,7 @@ def locate_event(model, wk, y, K, h, ytmp):
         flag = wk.cflag[k]
         tol = model.clr_geo[k, 4] * model.clr_geo[k, 2]
         xlo = 0.0
-        dlo = _delta(model, wk, k, y)
+        dlo = _delta(model, wk, k, t, y)
         found = False
         dhi = 0.0
         xhi = 1.0
@@ -78,7 +80,7 @@ def locate_event(model, wk, y, K, h, ytmp):
             if x >= xbest:
                 break
             interpolate(y, K, h, x, ytmp)
-            d = _delta(model, wk, k, ytmp)
+            d = _delta(model, wk, k, t + x * h, ytmp)
             if _wants(flag, d):
                 xhi = x
                 dhi = d
@@ -100,7 +102,7 @@ def locate_event(model, wk, y, K, h, ytmp):
             if not (xlo < xm < xhi):
                 xm = 0.5 * (xlo + xhi)
             interpolate(y, K, h, xm, ytmp)
-            dm = _delta(model, wk, k, ytmp)
+            dm = _delta(model, wk, k, t + xm * h, ytmp)
             if _wants(flag, dm):
                 xhi = xm
                 dhi = dm
@@ -129,21 +131,29 @@ def update_contacts(model, wk, t, y, log, nlog):
     """
     changed = False
     body_states(model, y, wk)
+    eval_all(model.fn_kind, model.fn_ptr, model.fn_data, t, wk.fval)
     iz = 13 * model.nb
     for k in range(model.nclr):
         s = model.clr_bs[k]
         b = model.clr_bb[k]
-        e, el, delta = clearance_geometry(model, k, wk.bA, wk.br)
+        e, el, delta = clearance_geometry(model, k, wk.bA, wk.br, wk.fval)
         n = scale(1.0 / el, e) if el > 0.0 else (0.0, 0.0, 0.0)
         zi = iz + 3 * k
         if _wants(wk.cflag[k], delta):
+            arm_s, arm_b, us, ub = _centres(model, k, wk.bA, wk.br, wk.fval)
             vPs = add(
-                (wk.brd[s, 0], wk.brd[s, 1], wk.brd[s, 2]),
-                cross((wk.bw[s, 0], wk.bw[s, 1], wk.bw[s, 2]), matvec(wk.bA[s], model.clr_ps[k])),
+                add(
+                    (wk.brd[s, 0], wk.brd[s, 1], wk.brd[s, 2]),
+                    cross((wk.bw[s, 0], wk.bw[s, 1], wk.bw[s, 2]), arm_s),
+                ),
+                us,
             )
             vPb = add(
-                (wk.brd[b, 0], wk.brd[b, 1], wk.brd[b, 2]),
-                cross((wk.bw[b, 0], wk.bw[b, 1], wk.bw[b, 2]), matvec(wk.bA[b], model.clr_pb[k])),
+                add(
+                    (wk.brd[b, 0], wk.brd[b, 1], wk.brd[b, 2]),
+                    cross((wk.bw[b, 0], wk.bw[b, 1], wk.bw[b, 2]), arm_b),
+                ),
+                ub,
             )
             ddot = dot(n, sub(vPb, vPs))
             if wk.cflag[k] == 0:

@@ -56,9 +56,7 @@ def _correction(model, wk, err, solver):
             wk.Q[b, k] = 0.0
     for r in range(model.nrow):
         wk.gB[r] = -err[r]
-    return solve_constrained(
-        model, wk.J, wk.gB, wk.Q, solver, wk.JM, wk.S, wk.first, wk.rl, wk.lam, wk.MiQ, wk.vd
-    )
+    return solve_constrained(model, wk, solver)
 
 
 @njit(cache=True, error_model="numpy")
@@ -274,7 +272,7 @@ def dopri5(
             # contact events inside the step: cut the step at the earliest one
             xev = 2.0
             if model.nclr > 0:
-                xev, _ = locate_event(model, wk, y, K, h, ytmp)
+                xev, _ = locate_event(model, wk, t, y, K, h, ytmp)
             if xev <= 1.0:
                 interpolate(y, K, h, xev, ynew)
                 tnew = t + xev * h

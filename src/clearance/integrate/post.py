@@ -57,9 +57,9 @@ def post_process(
             LAM[k, r] = wk.lam[r]
             PHI[k, r] = wk.phi[r]
             PHID[k, r] = wk.phid[r]
-        EN[k, 0] = kinetic_energy(model, y)
+        EN[k, 0] = kinetic_energy(model, y, wk.bJ)
         EN[k, 1] = potential_energy(model, y, wk.bA, wk.br)
-        EN[k, 2] = contact_energy(model, wk.bA, wk.br)
+        EN[k, 2] = contact_energy(model, wk.bA, wk.br, wk.fval)
         for bk in range(blk_row0.shape[0]):
             if blk_nrow[bk] == 0:
                 continue

@@ -25,8 +25,9 @@ class Result:
     j along the driver's positive direction; see each driver's docstring); for a squared
     DistanceDriver (phi = d.d - l^2) it is -2 l lam, the same pushing force.
     energy: kinetic T, potential V (gravity + springs), work of all constraint forces W_c,
-    of drivers W_d, of applied non-conservative forces W_a, and the balance residual
-    T + V - (T + V)(0) - W_c - W_a [J] (physics.md j).
+    of drivers W_d, of applied non-conservative forces W_a, of contact forces through moving
+    attachment points W_m ("work_moving"), the lumped-limb inertia power integral W_L
+    ("work_inertia"), and the balance residual [J] (physics.md j).
     stats: nfev, naccept, nreject, nproject, nevents (steps cut at a contact event), hmin,
     hmax, wall_time [s].
     Clearance joints (names in `clearance_names`): per-joint accessors eccentricity(),
@@ -34,7 +35,7 @@ class Result:
     the contact event log (t, joint index, +1 onset / -1 separation, delta_dot [m/s], e (3)
     in the socket frame [m]); energy adds the contact elastic energy V_c ("contact"), the
     normal damping dissipation D_n ("damping") and the friction work D_t ("friction"), and
-    the residual becomes T + V + V_c - (.)(0) - W_c - W_a + D_n + D_t (physics.md j).
+    the residual is T + V + V_c - (.)(0) - W_c - W_a - W_m - W_L + D_n + D_t (physics.md j).
     status 0 means success; otherwise `message` says why it stopped and the arrays hold
     everything computed up to then.
     """

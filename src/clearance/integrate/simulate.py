@@ -59,7 +59,14 @@ def scipy_rhs(c: Compiled, *, baumgarte: tuple = (5.0, 5.0), solver: str = "schu
     alpha, beta = (float(x) for x in baumgarte)
     model = c.model
 
+    ny = c.ny
+
     def f(t: float, y: np.ndarray) -> np.ndarray:
+        if y.shape != (ny,):  # the kernel does not bounds-check: refuse wrong layouts here
+            raise ValueError(
+                f"scipy_rhs: state of shape {y.shape}, expected ({ny},) "
+                f"(Compiled.describe() shows the layout)"
+            )
         out = np.empty_like(y)
         st = rhs(float(t), np.ascontiguousarray(y, dtype=float), model, wk, alpha, beta, code, out)
         if st != 0:
@@ -275,9 +282,20 @@ def _build_result(
     Dn = Y[:, c.iw + NWORK : c.iw + NWORK + c.nclr]
     Dt = Y[:, c.iw + NWORK + c.nclr : c.iw + NWORK + 2 * c.nclr]
     T, V, Vc = EN[:, 0], EN[:, 1], EN[:, 2]
-    # physics.md j: residual = (T + V + V_c) - (.)(0) - W_c - W_a + D_n + D_t
+    # physics.md j: residual = (T + V + V_c) - (.)(0) - W_c - W_a - W_m - W_L + D_n + D_t
     resid = (
-        (T + V + Vc - (T[0] + V[0] + Vc[0]) - W[:, 0] - W[:, 2] + Dn.sum(axis=1) + Dt.sum(axis=1))
+        (
+            T
+            + V
+            + Vc
+            - (T[0] + V[0] + Vc[0])
+            - W[:, 0]
+            - W[:, 2]
+            - W[:, 3]
+            - W[:, 4]
+            + Dn.sum(axis=1)
+            + Dt.sum(axis=1)
+        )
         if n
         else np.zeros(0)
     )
@@ -299,6 +317,8 @@ def _build_result(
         work_constraints=W[:, 0],
         work_drivers=W[:, 1],
         work_applied=W[:, 2],
+        work_moving=W[:, 3],
+        work_inertia=W[:, 4],
         contact=Vc,
         damping=Dn.sum(axis=1),
         friction=Dt.sum(axis=1),
@@ -353,7 +373,7 @@ def _block_point(mech: Mechanism, name: str, side: int) -> np.ndarray:
     el = mech.joints.get(name) or mech.drivers.get(name)
     mi = getattr(el, "marker_i", None)
     mj = getattr(el, "marker_j", None)
-    if mi is None and hasattr(el, "joint"):
+    if mi is None and hasattr(el, "joint"):  # prismatic driver: its joint's markers
         jt = mech.joints[el.joint]
         mi, mj = jt.marker_i, jt.marker_j
     if mi is None:  # pose drivers: the driven marker

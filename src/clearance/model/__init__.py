@@ -3,6 +3,7 @@
 from clearance.model.bodies import GROUND, Body, Marker, triad_from_axis
 from clearance.model.drivers import (
     DistanceDriver,
+    OffsetDriver,
     OrientationDriver,
     PositionDriver,
     PrismaticDriver,
@@ -28,6 +29,7 @@ __all__ = [
     "Marker",
     "triad_from_axis",
     "DistanceDriver",
+    "OffsetDriver",
     "OrientationDriver",
     "PositionDriver",
     "PrismaticDriver",

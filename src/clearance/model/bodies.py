@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from clearance.model.errors import ModelError
+from clearance.model.functions import TimeFunction, as_function
 
 GROUND = "ground"
 
@@ -128,6 +129,43 @@ def _check_rotation(owner: str, name: str, a: np.ndarray) -> None:
 
 
 @dataclass(frozen=True)
+class InertiaVariation:
+    """Body inertia that changes with a prescribed length (lumped limb, physics.md i).
+
+    J'(t) = J'_0 + diag(moments) (length(t) - offset)^2, body components: for a cylinder and
+    piston lumped by the mass-moment method, moments = (m1 m2/m, m1 m2/m, 0) and
+    offset = a1 + a2 (parallel-axis theorem). The rate term J'_dot omega' enters the Euler
+    equation exactly and its power -1/2 omega'^T J'_dot omega' the energy audit.
+    rate_term=False drops J'_dot omega' from the Euler equation (to reproduce models that
+    omit it; physics.md i shows the angular momentum of a free limb then drifts).
+    """
+
+    moments: tuple
+    offset: float
+    length: TimeFunction
+    rate_term: bool = True
+
+    def __post_init__(self) -> None:
+        who = "InertiaVariation"
+        k = _vec3(who, "moments", self.moments)
+        if min(k) < 0:
+            raise ModelError(
+                who,
+                "moments",
+                self.moments,
+                "must be >= 0 (the inertia must stay positive definite)",
+            )
+        object.__setattr__(self, "moments", k)
+        try:
+            a = float(self.offset)
+        except (TypeError, ValueError):
+            raise ModelError(who, "offset", self.offset, "expected a number [m]") from None
+        object.__setattr__(self, "offset", a)
+        object.__setattr__(self, "length", as_function(self.length, owner=who, field="length"))
+        object.__setattr__(self, "rate_term", bool(self.rate_term))
+
+
+@dataclass(frozen=True)
 class Body:
     """A rigid body.
 
@@ -146,6 +184,7 @@ class Body:
     orientation: tuple = (1.0, 0.0, 0.0, 0.0)
     velocity: tuple = (0.0, 0.0, 0.0)
     angular_velocity: tuple = (0.0, 0.0, 0.0)
+    inertia_variation: InertiaVariation | None = None
 
     def __post_init__(self) -> None:
         who = f"Body '{self.name}'"
@@ -178,6 +217,15 @@ class Body:
         object.__setattr__(
             self, "angular_velocity", _vec3(who, "angular_velocity", self.angular_velocity)
         )
+        if self.inertia_variation is not None and not isinstance(
+            self.inertia_variation, InertiaVariation
+        ):
+            raise ModelError(
+                who,
+                "inertia_variation",
+                self.inertia_variation,
+                "expected an InertiaVariation or None",
+            )
 
     @property
     def inertia_matrix(self) -> np.ndarray:
@@ -242,15 +290,32 @@ class Marker:
     components, relative to the mass centre [m] (world coordinates for ground).
     orientation: 3x3 matrix whose columns are the triad (f, g, h) in body components; h is
     the joint axis by convention.  Use `Marker.on_axis` to build the triad from an axis.
+    slide_axis, slide: a moving attachment point (rheonomic, physics.md c.2 and i): the
+    point is position + slide_axis * slide(t) (body components, slide a TimeFunction [m]).
     """
 
     name: str
     body: str
     position: tuple = (0.0, 0.0, 0.0)
     orientation: tuple = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    slide_axis: tuple | None = None
+    slide: TimeFunction | None = None
 
     def __post_init__(self) -> None:
         who = f"Marker '{self.name}'"
+        if (self.slide_axis is None) != (self.slide is None):
+            raise ModelError(
+                who,
+                "slide",
+                self.slide,
+                "give both slide_axis and slide (a moving attachment) or neither",
+            )
+        if self.slide_axis is not None:
+            ax = np.asarray(_vec3(who, "slide_axis", self.slide_axis))
+            if np.linalg.norm(ax) == 0:
+                raise ModelError(who, "slide_axis", self.slide_axis, "expected a non-zero vector")
+            object.__setattr__(self, "slide_axis", tuple(float(x) for x in ax / np.linalg.norm(ax)))
+            object.__setattr__(self, "slide", as_function(self.slide, owner=who, field="slide"))
         if not isinstance(self.name, str) or not self.name:
             raise ModelError("Marker", "name", self.name, "expected a non-empty string")
         if not isinstance(self.body, str) or not self.body:

@@ -20,6 +20,7 @@ class DriverType(IntEnum):
     DISTANCE = 1
     POSITION = 2
     ORIENTATION = 3
+    OFFSET = 4
 
 
 def _name(cls: str, name: object) -> str:
@@ -115,6 +116,34 @@ class PositionDriver:
         return 1
 
 
+@dataclass(frozen=True)
+class OffsetDriver:
+    """Displacement of marker j's point along marker i's h axis: h_i . (P_j - P_i) - f(t).
+
+    The prismatic driver's row without a joint: e.g. to place a ball at a chosen offset in its
+    socket during assembly. F_act = -lam is the force on body j along +h_i.
+    """
+
+    name: str
+    marker_i: str
+    marker_j: str
+    function: TimeFunction
+
+    kind = DriverType.OFFSET
+
+    def __post_init__(self) -> None:
+        who = _name("OffsetDriver", self.name)
+        for f in ("marker_i", "marker_j"):
+            v = getattr(self, f)
+            if not isinstance(v, str) or not v:
+                raise ModelError(who, f, v, "expected a marker name")
+        object.__setattr__(self, "function", as_function(self.function, owner=who))
+
+    @property
+    def nrows(self) -> int:
+        return 1
+
+
 _SEQ = {"x": 0, "y": 1, "z": 2}
 
 
@@ -174,4 +203,4 @@ class OrientationDriver:
         return 3 if self.mode == "full" else 2
 
 
-Driver = PrismaticDriver | DistanceDriver | PositionDriver | OrientationDriver
+Driver = PrismaticDriver | DistanceDriver | PositionDriver | OrientationDriver | OffsetDriver

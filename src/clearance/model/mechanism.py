@@ -15,6 +15,7 @@ import numpy as np
 from clearance.model.bodies import GROUND, Body, Marker
 from clearance.model.drivers import (
     DistanceDriver,
+    OffsetDriver,
     OrientationDriver,
     PositionDriver,
     PrismaticDriver,
@@ -23,7 +24,7 @@ from clearance.model.errors import ModelError
 from clearance.model.forces import PointForce, SpringDamper, Torque
 from clearance.model.joints import Cylindrical, Joint, Prismatic
 
-_DRIVERS = (PrismaticDriver, DistanceDriver, PositionDriver, OrientationDriver)
+_DRIVERS = (PrismaticDriver, DistanceDriver, PositionDriver, OrientationDriver, OffsetDriver)
 _FORCES = (PointForce, Torque, SpringDamper)
 
 
@@ -156,7 +157,7 @@ class Mechanism:
                     f"is a {type(self.joints[d.joint]).__name__}; a prismatic "
                     "driver needs a Prismatic or Cylindrical joint",
                 )
-        elif isinstance(d, DistanceDriver):
+        elif isinstance(d, (DistanceDriver, OffsetDriver)):
             mi = self._need_marker(who, "marker_i", d.marker_i)
             mj = self._need_marker(who, "marker_j", d.marker_j)
             if mi.body == mj.body:
