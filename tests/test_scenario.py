@@ -411,7 +411,7 @@ def test_cli_check() -> None:
     assert r.stdout.startswith(f"OK {path}") and len(r.stdout.splitlines()) == 1
     assert "4ups-upu" in r.stdout and "S_1, S_3" in r.stdout
     r = runner.invoke(app, ["check", str(default_scenario_path("sps_cu"))])
-    assert r.exit_code == 0 and "no builder" in r.stdout
+    assert r.exit_code == 0 and "4sps-cu" in r.stdout and "no builder" not in r.stdout
 
 
 def test_cli_check_errors(tmp_path: Path) -> None:
@@ -469,8 +469,24 @@ def test_build_uses_mechanism_parameters(default) -> None:
     assert clr.bodies["platform"].mass == 12.0
 
 
-def test_build_sps_cu_not_available() -> None:
+def test_build_sps_cu_lumped_with_two_body_ik_model() -> None:
+    import clearance as cl
+
     s = load_scenario(default_scenario_path("sps_cu"))
+    ideal, clr, info = build_mechanisms(s)
+    ci, cc, ck = (cl.compile_mechanism(m) for m in (ideal, clr, info.ik_mechanism))
+    assert (ci.nv, ci.nrow) == (36, 32)  # lumped: no driver rows (mechanisms.md 2.2)
+    assert cc.nclr == 1 and cc.nrow == 29
+    assert (ck.nv, ck.nrow) == (60, 56) and info.actuators == tuple(
+        f"drive_{k}" for k in range(1, 5)
+    )
+
+
+def test_build_unregistered_type_is_a_clear_error(monkeypatch) -> None:
+    from clearance.scenario import build as b
+
+    s = load_scenario(default_scenario_path("sps_cu"))
+    monkeypatch.delitem(b.BUILDERS, s.mechanism.type)
     with pytest.raises(ScenarioError) as info:
         build_mechanisms(s)
     msg = str(info.value)

@@ -61,8 +61,8 @@ def examples() -> None:
         typer.echo(f"{k:<16s} {t_end:>6g} s  {desc}")
 
 
-@app.command()
-def run(
+@app.command("example")
+def run_example(
     example: str = typer.Argument("ups-upu", help="example mechanism (see `clearance examples`)"),
     t_end: float = typer.Option(None, help="end time [s] (default: the example's)"),
     rtol: float = typer.Option(1e-6, help="relative tolerance of DOPRI5"),
@@ -70,7 +70,7 @@ def run(
     dt_out: float = typer.Option(1e-3, help="output interval [s]"),
     out: Path = typer.Option(Path("out"), help="output folder"),
 ) -> None:
-    """Simulate an example mechanism, print a summary and save the result (.npz)."""
+    """Simulate a shipped example mechanism, print a summary and save the result (.npz)."""
     from clearance import compile_mechanism, simulate
     from clearance.io.npz import save_npz
 
@@ -121,6 +121,86 @@ def check(file: Path = typer.Argument(..., help="scenario file (TOML)")) -> None
         raise typer.Exit(2) from None
     note = "" if s.mechanism.type in BUILDERS else " (validates; no builder in this version)"
     typer.echo(f"OK {file}: {s.summary()}{note}")
+
+
+@app.command()
+def run(
+    file: Path = typer.Argument(None, help="scenario file (default: the shipped 4UPS-UPU)"),
+    out: Path = typer.Option(None, help="output folder (default: the scenario's [output])"),
+    figures: bool = typer.Option(None, "--figures/--no-figures", help="draw the figures"),
+) -> None:
+    """Run a scenario: ideal and clearance mechanism on the same IK drives; save and plot."""
+    from clearance.model.errors import KinematicsError, ModelError
+    from clearance.pipeline import format_summary, run_scenario
+    from clearance.scenario import ScenarioError
+
+    try:
+        o = run_scenario(file, out_dir=out, figures=figures, log=typer.echo)
+    except ScenarioError as e:
+        for line in e.lines():
+            typer.echo(line, err=True)
+        raise typer.Exit(2) from None
+    except (KinematicsError, ModelError) as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from None
+    typer.echo(f"summary of '{o.scenario.name}':")
+    typer.echo(format_summary(o.summary))
+    typer.echo(
+        f"total wall time {o.timings['total']:.2f} s "
+        f"(inverse kinematics {o.timings['inverse_kinematics']:.2f} s)"
+    )
+    typer.echo("files:")
+    for f in o.files:
+        typer.echo(f"  {f}")
+    if not (o.ideal.success and o.clearance.success):
+        raise typer.Exit(1)
+
+
+@app.command()
+def plot(
+    result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
+    out: Path = typer.Option(None, help="figure folder (default: <result folder>/figures)"),
+    fmt: list[str] = typer.Option(["png", "pdf"], "--format", help="figure formats"),
+) -> None:
+    """Redraw the figures of a saved result, without simulating."""
+    from clearance.io.dataset import load_results
+    from clearance.plot import plot_all
+
+    data = _load(result, load_results)
+    files = plot_all(dict(data), out or result.parent / "figures", formats=tuple(fmt))
+    for f in files:
+        typer.echo(str(f))
+
+
+@app.command()
+def export(
+    result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
+    csv: bool = typer.Option(True, "--csv/--no-csv", help="write CSV tables"),
+    mat: bool = typer.Option(True, "--mat/--no-mat", help="write a MATLAB .mat file"),
+    out: Path = typer.Option(None, help="output folder (default: next to the result)"),
+) -> None:
+    """Export a saved result to CSV and/or MATLAB .mat."""
+    from clearance.io.dataset import load_results
+    from clearance.io.export import export_csv, export_mat
+
+    _load(result, load_results)  # clear error for a missing or invalid file
+    folder = out or result.parent
+    files = export_csv(result, folder) if csv else []
+    if mat:
+        files.append(export_mat(result, folder / f"{result.stem}.mat"))
+    for f in files:
+        typer.echo(str(f))
+
+
+def _load(path: Path, loader):
+    if not path.is_file():
+        typer.echo(f"error: {path}: no such result file", err=True)
+        raise typer.Exit(2)
+    try:
+        return loader(path)
+    except (OSError, ValueError) as e:
+        typer.echo(f"error: {path}: not a clearance result file ({e})", err=True)
+        raise typer.Exit(2) from None
 
 
 def main() -> None:  # pragma: no cover

@@ -80,6 +80,7 @@ class BuildInfo:
     initial: InitialPlacement
     t_end: float
     simulate_kwargs: dict = field(default_factory=dict)
+    ik_mechanism: Mechanism | None = None  # model with driver rows for the IK (default: ideal)
 
     def pose_functions(self) -> dict[str, TimeFunction]:
         """x, y, z [m] of the platform marker and the angles [rad] of `pose_sequence`
@@ -152,11 +153,55 @@ def _build_ups_upu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, B
     return ideal, clr, info
 
 
+def _build_sps_cu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, BuildInfo]:
+    """4-SPS/CU (mechanisms.md 2): limbs lumped (mass-moment method, physics.md i) or
+    two-body per the `limb_model` parameter. Lumped limbs have no driver rows (the length
+    enters through the attachments), so the IK runs on the two-body model with the same
+    parameters (`info.ik_mechanism`): both give the same platform motion for the same
+    lengths (tests/test_sps_cu.py)."""
+    from clearance.mechanisms.sps_cu import sps_cu, sps_cu_home_lengths, sps_cu_names
+
+    par = s.mechanism.params
+    kind = MECHANISMS[MechanismType.SPS_CU]
+    names = sps_cu_names("two-body")
+    actuators = names.drives
+    home = tuple(sps_cu_home_lengths(par))  # type: ignore[arg-type]
+    fns = _drive_list(drives, actuators, s.source)
+    lengths = list(home) if fns is None else fns
+    limbs = par.limb_model  # type: ignore[attr-defined]
+    ideal = sps_cu(par, limbs=limbs, lengths=lengths, name=f"{s.name} (ideal)")  # type: ignore[arg-type]
+    ik_mech = sps_cu(par, limbs="two-body", lengths=lengths, name=f"{s.name} (IK)")  # type: ignore[arg-type]
+    clr = ideal.copy()
+    for name, joint in s.clearance.joints.items():
+        clr = clr.with_clearance(name, joint.clearance())
+    clr.name = f"{s.name} (clearance)"
+    info = BuildInfo(
+        mechanism_type=MechanismType.SPS_CU,
+        platform_body=names.platform_body,
+        platform_marker=names.platform_marker,
+        actuators=actuators,
+        actuator_joints=names.prismatic_joints,
+        home_drives=home,
+        clearance_joints=tuple(s.clearance.joints),
+        home_position=(0.0, 0.0, par.home_height),  # type: ignore[attr-defined]
+        trajectory=s.trajectory,
+        pose_sequence=kind.sequence,
+        pose_mode=kind.mode,
+        angle_coordinates=kind.angles,
+        initial=s.clearance.initial,
+        t_end=s.trajectory.duration,
+        simulate_kwargs=s.solver.simulate_kwargs(),
+        ik_mechanism=ik_mech,
+    )
+    return ideal, clr, info
+
+
 Builder = Callable[[Scenario, Drives], tuple[Mechanism, Mechanism, BuildInfo]]
 
-# Mechanism type -> builder. The 4-SPS/CU builder is added with its factory.
+# Mechanism type -> builder
 BUILDERS: dict[MechanismType, Builder] = {
     MechanismType.UPS_UPU: _build_ups_upu,
+    MechanismType.SPS_CU: _build_sps_cu,
 }
 
 

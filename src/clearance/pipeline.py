@@ -1,0 +1,286 @@
+"""`run_scenario`: a scenario file end to end (what `clearance run` does).
+
+    scenario -> mechanisms (ideal + clearance) -> inverse kinematics of the prescribed platform
+    trajectory (physics.md e.2) -> actuator drives -> ideal run and clearance run on the same
+    drives -> one NetCDF file (a group per run, the scenario and version in the attributes)
+    -> figures -> summary (contact forces, impacts, deviation from ideal, energy, speed)
+
+Every stage is a library call; this module only wires them together and reports progress.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+import clearance
+from clearance.compile.compiled import compile_mechanism
+from clearance.integrate.result import Result
+from clearance.integrate.simulate import simulate
+from clearance.kinematics.analysis import assemble, velocity_analysis
+from clearance.kinematics.ik import IKResult, drives_from_ik, inverse_kinematics
+from clearance.model.bodies import Marker
+from clearance.model.drivers import OffsetDriver
+from clearance.model.mechanism import Mechanism
+from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
+from clearance.scenario.schema import InitialPlacement, Scenario
+
+# RMS comparisons skip the settling of the ball into first contact (mechanisms.md 1.6)
+SKIP_SETTLING = 0.05  # [s] PROPOSED
+IK_SPACING = 0.02  # [s] IK samples; quintic Hermite drives between them (errors ~1e-11 m)
+
+
+@dataclass
+class RunOutput:
+    """What a scenario run produced: the two results, the IK, the summary and the files."""
+
+    scenario: Scenario
+    ideal: Result
+    clearance: Result
+    ik: IKResult
+    summary: dict
+    files: list = field(default_factory=list)
+    timings: dict = field(default_factory=dict)
+
+
+def _say(log: Callable[[str], None] | None, msg: str) -> None:
+    if log is not None:
+        log(msg)
+
+
+def _platform_channels(r: Result, body: str) -> dict[str, np.ndarray]:
+    return {
+        "position": r.position(body),
+        "velocity": r.velocity(body),
+        "acceleration": r.acceleration(body),
+        "angular_velocity": r.angular_velocity(body),
+        "angular_acceleration": np.einsum(
+            "nij,nj->ni", r.rotation(body), r.a[:, 6 * r._k(body) + 3 : 6 * r._k(body) + 6]
+        ),
+    }
+
+
+def summarize(ideal: Result, clr: Result, platform: str, *, skip: float = SKIP_SETTLING) -> dict:
+    """Scalar summary of a scenario run (all SI units).
+
+    Per clearance joint: peak and RMS contact force, impacts, max penetration. Platform: RMS
+    deviation of position, velocity, acceleration (linear and angular) of the clearance run
+    from the ideal run over the common samples after `skip` seconds. Energy residual
+    (relative to the energy scale), wall time and real-time factor of both runs.
+    """
+    out: dict = {"joints": {}, "deviation_rms": {}}
+    n = min(ideal.t.size, clr.t.size)
+    mask = np.zeros(n, dtype=bool)
+    if n:
+        same_grid = np.allclose(ideal.t[:n], clr.t[:n], rtol=0, atol=1e-12)
+        mask = (clr.t[:n] >= clr.t[0] + skip) & same_grid
+    for name in clr.clearance_names:
+        fn = clr.contact_force(name)
+        sel = fn[: mask.size][mask] if mask.any() else fn
+        out["joints"][name] = {
+            "peak_contact_force": float(fn.max()) if fn.size else 0.0,
+            "rms_contact_force": float(np.sqrt(np.mean(sel**2))) if sel.size else 0.0,
+            "impacts": int(len(clr.impacts(name))),
+            "max_penetration": float(max(0.0, clr.penetration(name).max())) if fn.size else 0.0,
+        }
+    if mask.any():
+        ci = _platform_channels(ideal, platform)
+        cc = _platform_channels(clr, platform)
+        for key in ci:
+            d = cc[key][:n][mask] - ci[key][:n][mask]
+            out["deviation_rms"][key] = float(np.sqrt(np.mean(np.sum(d**2, axis=1))))
+    for label, r in (("ideal", ideal), ("clearance", clr)):
+        e = r.energy
+        scale = float(np.max(np.abs(e["kinetic"]) + np.abs(e["potential"]))) if r.t.size else 1.0
+        sim_time = float(r.t[-1] - r.t[0]) if r.t.size else 0.0
+        wall = r.stats["wall_time"]
+        out[label] = {
+            "status": r.status,
+            "message": r.message,
+            "energy_residual": float(np.max(np.abs(e["residual"]))) if r.t.size else 0.0,
+            "energy_residual_relative": (
+                float(np.max(np.abs(e["residual"]))) / max(scale, 1e-300) if r.t.size else 0.0
+            ),
+            "wall_time": wall,
+            "real_time_factor": sim_time / wall if wall > 0 else math.inf,
+            "steps": r.stats["naccept"],
+            "rhs_evaluations": r.stats["nfev"],
+        }
+    return out
+
+
+def format_summary(s: dict) -> str:
+    """Human-readable summary lines (the `clearance run` printout)."""
+    lines = []
+    for name, j in s["joints"].items():
+        lines.append(
+            f"  {name}: peak F_N {j['peak_contact_force']:.1f} N, "
+            f"RMS {j['rms_contact_force']:.1f} N, {j['impacts']} impacts, "
+            f"max penetration {j['max_penetration'] * 1e6:.2f} um"
+        )
+    dev = s["deviation_rms"]
+    if dev:
+        lines.append(
+            "  platform RMS deviation from ideal: "
+            f"position {dev['position'] * 1e6:.3g} um, velocity {dev['velocity'] * 1e3:.3g} mm/s, "
+            f"acceleration {dev['acceleration']:.3g} m/s^2, angular velocity "
+            f"{dev['angular_velocity']:.3g} rad/s, angular acceleration "
+            f"{dev['angular_acceleration']:.3g} rad/s^2"
+        )
+    for label in ("ideal", "clearance"):
+        r = s[label]
+        lines.append(
+            f"  {label}: {'ok' if r['status'] == 0 else 'FAILED: ' + r['message']}; "
+            f"energy residual {r['energy_residual']:.2e} J ({r['energy_residual_relative']:.1e} "
+            f"of the energy scale); {r['steps']} steps, {r['rhs_evaluations']} rhs; wall "
+            f"{r['wall_time']:.3f} s (real-time factor {r['real_time_factor']:.2f})"
+        )
+    return "\n".join(lines)
+
+
+def place_balls_along_reaction(
+    clr: Mechanism, ideal_result: Result, y_ideal: np.ndarray, joints: tuple[str, ...]
+) -> np.ndarray:
+    """Initial state with each ball at e = c n0 (mechanisms.md 1.6 option B).
+
+    n0 = -f/|f|, f the ideal joint's force of the socket body on the ball body at t = 0, so
+    the contact force -F_N n0 starts in the ideal direction. The offset is imposed with three
+    temporary OffsetDrivers per joint (socket-frame axes) during assembly, then removed.
+    """
+    mech = clr.copy()
+    c0 = compile_mechanism(clr)
+    names = []
+    for jn in joints:
+        jt = clr.joints[jn]
+        cl = jt.clearance
+        socket_marker, ball_marker = (
+            (jt.marker_i, jt.marker_j) if cl.socket == "i" else (jt.marker_j, jt.marker_i)
+        )
+        f_on_body, _ = ideal_result.reaction(jn)
+        k = ideal_result.blocks.index(jn)
+        ball_body = clr.markers[ball_marker].body
+        f_ball = f_on_body[0] if ideal_result.reaction_body[k] == ball_body else -f_on_body[0]
+        if np.linalg.norm(f_ball) == 0:
+            continue
+        n0 = -f_ball / np.linalg.norm(f_ball)
+        sm = clr.markers[socket_marker]
+        A_s = np.eye(3)
+        if sm.body != "ground":
+            p = y_ideal[c0.q_slice(sm.body)][3:7]
+            A_s = clearance.Body("tmp", 1.0, orientation=p / np.linalg.norm(p)).rotation
+        for a in range(3):
+            mk = Marker.on_axis(
+                f"__offset_{jn}_{a}", sm.body, sm.position, axis=A_s.T @ np.eye(3)[a]
+            )
+            dr = OffsetDriver(f"__offset_{jn}_{a}_drv", mk.name, ball_marker, cl.c * n0[a])
+            mech.add(mk, dr)
+            names.append(dr.name)
+    cb = compile_mechanism(mech)
+    y = np.array(y_ideal[: cb.nq + cb.nv].tolist() + [0.0] * (cb.ny - cb.nq - cb.nv))
+    y = assemble(cb, y)
+    c = compile_mechanism(clr)
+    out = np.zeros(c.ny)
+    out[: c.nq + c.nv] = y[: c.nq + c.nv]
+    return velocity_analysis(c, out)
+
+
+def run_scenario(
+    scenario: Scenario | str | Path | None = None,
+    *,
+    out_dir: str | Path | None = None,
+    figures: bool | None = None,
+    log: Callable[[str], None] | None = print,
+) -> RunOutput:
+    """Run a scenario (default: the shipped 4UPS-UPU one) and write its outputs.
+
+    out_dir: output folder (default: the scenario's [output] folder). figures: override the
+    scenario's [output] figures flag. log: progress messages (None: silent).
+    A run that fails part-way keeps and writes what it computed; its status says why.
+    """
+    from clearance.io.dataset import save_results
+    from clearance.scenario import default_scenario_path
+
+    t_all = time.perf_counter()
+    if scenario is None:
+        scenario = default_scenario_path()
+    s = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    out = Path(out_dir if out_dir is not None else s.output.folder)
+    timings: dict = {}
+    _say(log, f"[1/5] building '{s.name}' ({s.mechanism.type.value})")
+    ideal, clr, info = build_mechanisms(s)
+    t0 = time.perf_counter()
+    t_end = info.t_end
+    n_ik = max(2, int(round(t_end / IK_SPACING)) + 1)
+    times = np.linspace(0.0, t_end, n_ik)
+    _say(log, f"[2/5] inverse kinematics: {n_ik} poses over {t_end:g} s")
+    ik = inverse_kinematics(
+        info.ik_mechanism or ideal,
+        info.platform_trajectory(),
+        platform_marker=info.platform_marker,
+        actuators=info.actuators,
+        times=times,
+    )
+    ideal, clr, info = build_mechanisms(s, drives=drives_from_ik(ik))
+    timings["inverse_kinematics"] = time.perf_counter() - t0
+    _say(
+        log,
+        f"      drive Jacobian: min sigma {ik.min_sigma:.3g}, max condition {ik.max_condition:.3g}",
+    )
+    kw = dict(info.simulate_kwargs)
+    t0 = time.perf_counter()
+    _say(log, "[3/5] ideal mechanism")
+    ci = compile_mechanism(ideal)
+    r_ideal = simulate(ci, t_end, **kw)
+    timings["ideal"] = time.perf_counter() - t0
+    _say(log, f"      {r_ideal.message}; wall {r_ideal.stats['wall_time']:.3f} s")
+    t0 = time.perf_counter()
+    _say(
+        log,
+        f"[4/5] clearance mechanism ({', '.join(info.clearance_joints)}; initial "
+        f"placement {s.clearance.initial.value})",
+    )
+    cc = compile_mechanism(clr)
+    y_ideal = r_ideal.q[0].tolist() + r_ideal.v[0].tolist() if r_ideal.t.size else None
+    y0 = np.zeros(cc.ny)
+    if y_ideal is not None:
+        y0[: cc.nq + cc.nv] = y_ideal
+        if s.clearance.initial == InitialPlacement.REACTION:
+            y0 = place_balls_along_reaction(clr, r_ideal, y0, info.clearance_joints)
+    r_clr = simulate(cc, t_end, y0=y0, **kw)
+    timings["clearance"] = time.perf_counter() - t0
+    _say(log, f"      {r_clr.message}; wall {r_clr.stats['wall_time']:.3f} s")
+    summary = summarize(r_ideal, r_clr, info.platform_body)
+    _say(log, "[5/5] writing results")
+    attrs = {
+        "scenario": scenario_to_toml(s),
+        "scenario_name": s.name,
+        "scenario_source": str(s.source),
+        "clearance_version": clearance.__version__,
+        "ik_min_sigma": ik.min_sigma,
+        "ik_max_condition": ik.max_condition,
+    }
+    files = [
+        save_results(out / f"{s.name}.nc", {"ideal": r_ideal, "clearance": r_clr}, attrs=attrs)
+    ]
+    if "csv" in s.output.formats or "mat" in s.output.formats:
+        from clearance.io.export import export_csv, export_mat
+
+        if "csv" in s.output.formats:
+            files += export_csv(files[0], out)
+        if "mat" in s.output.formats:
+            files.append(export_mat(files[0], out / f"{s.name}.mat"))
+    if s.output.figures if figures is None else figures:
+        from clearance.io.dataset import load_results
+        from clearance.plot import plot_all
+
+        fmts = tuple(dict.fromkeys((s.output.figure_format, "pdf")))
+        files += plot_all(
+            dict(load_results(files[0])), out / "figures", platform=info.platform_body, formats=fmts
+        )
+    timings["total"] = time.perf_counter() - t_all
+    return RunOutput(s, r_ideal, r_clr, ik, summary, files, timings)
