@@ -1,0 +1,138 @@
+"""End to end: scenario -> IK -> ideal and clearance runs -> files -> figures (issue 4)."""
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+import clearance as cl
+from clearance.cli.main import app
+from clearance.io.dataset import load_results
+from clearance.kinematics.analysis import assemble
+from clearance.pipeline import place_balls_along_reaction, run_scenario
+from clearance.scenario import (
+    build_mechanisms,
+    default_scenario_path,
+    load_scenario,
+    scenario_to_toml,
+    with_overrides,
+)
+
+
+def short(name: str, **extra):
+    s = load_scenario(default_scenario_path(name))
+    over = {"trajectory.duration": 0.1, "solver.dt_out": 1e-3, "output.figures": False}
+    over.update(extra)
+    return with_overrides(s, over)
+
+
+@pytest.fixture(scope="module")
+def ups(tmp_path_factory):
+    return run_scenario(short("ups_upu"), out_dir=tmp_path_factory.mktemp("ups"), log=None)
+
+
+def test_ideal_follows_the_prescribed_trajectory(ups):
+    """Ideal 4UPS-UPU driven by the IK drives: platform centre on the trajectory to 1e-9 m
+    and platform normal to 1e-9 rad (the twist is what the UPU leg imposes)."""
+    s = ups.scenario
+    _, _, info = build_mechanisms(s)
+    f = info.pose_functions()
+    r = ups.ideal
+    pos = np.array([[f[c](t) for c in "xyz"] for t in r.t])
+    assert np.max(np.abs(r.position("platform") - pos)) < 1e-9
+    n = r.rotation("platform")[:, :, 2]
+    traj = info.platform_trajectory()
+    n_target = np.array([traj.normal(t) for t in r.t])
+    assert np.max(np.linalg.norm(n - n_target, axis=1)) < 1e-9
+
+
+def test_clearance_run_outputs_and_round_trip(ups):
+    r = ups.clearance
+    assert ups.ideal.success and r.success
+    for name in ("S_1", "S_3"):
+        assert np.max(r.penetration(name)) < 2e-5  # within clearance + micrometres
+    s = ups.summary
+    assert set(s["joints"]) == {"S_1", "S_3"}
+    assert s["clearance"]["energy_residual_relative"] < 1e-6
+    nc = ups.files[0]
+    data = load_results(nc)
+    assert set(data) == {"ideal", "clearance"}
+    assert data.attrs["scenario"] == scenario_to_toml(ups.scenario)
+    assert data.attrs["clearance_version"] == cl.__version__
+    np.testing.assert_array_equal(
+        data["clearance"]["penetration"].values[:, 0], r.penetration("S_1")
+    )
+
+
+def test_option_b_places_the_ball_along_the_ideal_reaction():
+    s = short("ups_upu", **{"clearance.initial": "reaction"})
+    ideal, clr, info = build_mechanisms(s)
+    ci = cl.compile_mechanism(ideal)
+    y0 = cl.initial_state(ci)
+    ri = cl.simulate(ci, 1e-6, t_out=np.array([0.0, 1e-6]))
+    cc = cl.compile_mechanism(clr)
+    y = np.zeros(cc.ny)
+    y[: cc.nq + cc.nv] = y0[: ci.nq + ci.nv]
+    yb = place_balls_along_reaction(clr, ri, y, info.clearance_joints)
+    r = cl.simulate(cc, 1e-6, t_out=np.array([0.0]), y0=yb)
+    for name in info.clearance_joints:
+        e = r.eccentricity(name)[0]
+        assert np.linalg.norm(e) == pytest.approx(0.3e-3, rel=1e-9)
+    assert np.max(np.abs(assemble(cc, yb) - yb)) < 1e-12  # consistent with all rows
+
+
+def test_ups_upu_static_actuator_forces_equal_virtual_work():
+    """At rest (home lengths held), the actuator forces equal the derivative of the
+    potential energy of the assembled mechanism with respect to the leg lengths (virtual
+    work, an independent oracle: F_k = dV/dl_k by central differences of assembly)."""
+    from clearance.mechanisms.ups_upu import home_leg_lengths, ups_upu_ideal
+
+    home = list(home_leg_lengths())
+    c = cl.compile_mechanism(ups_upu_ideal(drives=home))  # the factory default drives move
+    r = cl.simulate(c, 1e-3, t_out=np.array([0.0]))
+    F = np.array([r.actuator_force(f"drive_{k}")[0] for k in range(1, 6)])
+    assert np.max(np.abs(r.v[0])) < 1e-12  # at rest
+
+    def V(lengths):
+        cc = cl.compile_mechanism(ups_upu_ideal(drives=lengths))
+        y = assemble(cc, cl.initial_state(c))  # same bodies and layout, other lengths
+        g = np.array(cc.mechanism.gravity)
+        return -sum(
+            b.mass * g @ y[7 * k : 7 * k + 3] for k, b in enumerate(cc.mechanism.bodies.values())
+        )
+
+    h = 1e-6
+    for k in range(5):
+        lp, lm = list(home), list(home)
+        lp[k] += h
+        lm[k] -= h
+        dV = (V(lp) - V(lm)) / (2 * h)
+        assert F[k] == pytest.approx(dV, rel=1e-5, abs=1e-6 * np.max(np.abs(F)))
+
+
+def test_sps_cu_scenario_runs_lumped(tmp_path):
+    o = run_scenario(short("sps_cu"), out_dir=tmp_path, log=None)
+    assert o.ideal.success and o.clearance.success
+    assert np.max(o.clearance.penetration("SB_1")) < 2e-5
+    assert o.files[0].exists()
+
+
+def test_cli_run_plot_export(tmp_path):
+    s = short("ups_upu", **{"output.figures": True})
+    path = tmp_path / "s.toml"
+    path.write_text(scenario_to_toml(s))
+    runner = CliRunner()
+    r = runner.invoke(app, ["run", str(path), "--out", str(tmp_path / "o")])
+    assert r.exit_code == 0, r.output
+    assert "summary of" in r.output and "S_1: peak F_N" in r.output
+    nc = tmp_path / "o" / f"{s.name}.nc"
+    assert nc.exists() and (tmp_path / "o" / "figures" / "contact_force.png").exists()
+    r = runner.invoke(app, ["plot", str(nc), "--out", str(tmp_path / "f2"), "--format", "png"])
+    assert r.exit_code == 0 and (tmp_path / "f2" / "platform_velocity.png").exists()
+    r = runner.invoke(app, ["export", str(nc), "--out", str(tmp_path / "x")])
+    assert r.exit_code == 0 and (tmp_path / "x" / f"{s.name}.mat").exists()
+    r = runner.invoke(app, ["export", str(tmp_path / "missing.nc")])
+    assert r.exit_code == 2 and "no such result file" in r.output
+    bad = tmp_path / "bad.toml"
+    bad.write_text(scenario_to_toml(s).replace("rtol = 1e-06", "rtol = -1.0"))
+    r = runner.invoke(app, ["run", str(bad)])
+    assert r.exit_code == 2 and "solver.rtol" in r.output
