@@ -189,6 +189,22 @@ def place_balls_along_reaction(
     return velocity_analysis(c, out)
 
 
+def _with_lumped_actuator_forces(r: Result, s: Scenario) -> Result:
+    """Lumped limbs have no driver rows (physics.md i): recover their actuator forces from
+    the piston's axial balance and attach them as the result's driver channels, so files,
+    figures and summaries treat both limb models alike."""
+    from dataclasses import replace
+
+    from clearance.mechanisms.sps_cu import lumped_actuator_force
+
+    limbs = [b for b in r.compiled.body_names if b.startswith("limb_")]
+    if r.driver_names or not limbs or r.t.size == 0:
+        return r
+    par = s.mechanism.params
+    F = np.column_stack([lumped_actuator_force(r, k, params=par) for k in range(1, 5)])
+    return replace(r, driver_force=F, driver_names=tuple(f"drive_{k}" for k in range(1, 5)))
+
+
 def run_scenario(
     scenario: Scenario | str | Path | None = None,
     *,
@@ -254,6 +270,7 @@ def run_scenario(
     r_clr = simulate(cc, t_end, y0=y0, **kw)
     timings["clearance"] = time.perf_counter() - t0
     _say(log, f"      {r_clr.message}; wall {r_clr.stats['wall_time']:.3f} s")
+    r_ideal, r_clr = (_with_lumped_actuator_forces(r, s) for r in (r_ideal, r_clr))
     summary = summarize(r_ideal, r_clr, info.platform_body)
     _say(log, "[5/5] writing results")
     attrs = {

@@ -175,7 +175,8 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
         k = seen.get(d, 0)
         seen[d] = k + 1
         drow.append(d if counts[d] == 1 else f"{d}[{k}]")
-    dunits = [_driver_units(allblocks[d].kind) for d in dnames]
+    # recovered forces without a driver block (lumped limbs, physics.md i) are forces [N]
+    dunits = [_driver_units(allblocks[d].kind) if d in allblocks else "N" for d in dnames]
 
     q = result.q.reshape(n, nb, 7)
     v = result.v.reshape(n, nb, 6)
