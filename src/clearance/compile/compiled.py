@@ -315,25 +315,34 @@ def _joint_prims(b: _Builder, jt) -> None:
         b.prim(PrimKind.DOT1, bi, bj, abi=hi, abj=fj)
 
 
+def _offset_row(b: _Builder, mi: str, mj: str, function) -> tuple[str, str]:
+    """h_i . (P_j - P_i) - f(t): the row of PrismaticDriver (its joint's markers) and of
+    OffsetDriver (dot-2 primitive, c.3)."""
+    mech = b.mech
+    bi, pi, Ti = b.marker(mi)
+    bj, pj, _ = b.marker(mj)
+    b.prim(
+        PrimKind.DOT2,
+        bi,
+        bj,
+        sbi=pi,
+        sbj=pj,
+        abi=Ti[:, 2],
+        fn=b.fn(function),
+        driver=True,
+        mi=mi,
+        mj=mj,
+    )
+    return mech.markers[mi].body, mech.markers[mj].body
+
+
 def _driver_prims(b: _Builder, d) -> tuple[str, str]:
     mech = b.mech
     if isinstance(d, PrismaticDriver):
         jt = mech.joints[d.joint]
-        bi, pi, Ti = b.marker(jt.marker_i)
-        bj, pj, _ = b.marker(jt.marker_j)
-        b.prim(
-            PrimKind.DOT2,
-            bi,
-            bj,
-            sbi=pi,
-            sbj=pj,
-            abi=Ti[:, 2],
-            fn=b.fn(d.function),
-            driver=True,
-            mi=jt.marker_i,
-            mj=jt.marker_j,
-        )
-        return mech.markers[jt.marker_i].body, mech.markers[jt.marker_j].body
+        return _offset_row(b, jt.marker_i, jt.marker_j, d.function)
+    if isinstance(d, OffsetDriver):
+        return _offset_row(b, d.marker_i, d.marker_j, d.function)
     if isinstance(d, DistanceDriver):
         bi, pi, _ = b.marker(d.marker_i)
         bj, pj, _ = b.marker(d.marker_j)
@@ -344,22 +353,6 @@ def _driver_prims(b: _Builder, d) -> tuple[str, str]:
             bj,
             sbi=pi,
             sbj=pj,
-            fn=b.fn(d.function),
-            driver=True,
-            mi=d.marker_i,
-            mj=d.marker_j,
-        )
-        return mech.markers[d.marker_i].body, mech.markers[d.marker_j].body
-    if isinstance(d, OffsetDriver):
-        bi, pi, Ti = b.marker(d.marker_i)
-        bj, pj, _ = b.marker(d.marker_j)
-        b.prim(
-            PrimKind.DOT2,
-            bi,
-            bj,
-            sbi=pi,
-            sbj=pj,
-            abi=Ti[:, 2],
             fn=b.fn(d.function),
             driver=True,
             mi=d.marker_i,

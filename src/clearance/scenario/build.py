@@ -122,26 +122,22 @@ def _drive_list(drives: Drives, actuators: tuple[str, ...], source: str) -> list
     return [drives[a] for a in actuators]
 
 
-def _build_ups_upu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, BuildInfo]:
-    par = s.mechanism.params
-    kind = MECHANISMS[MechanismType.UPS_UPU]
-    actuators = tuple(f"drive_{k}" for k in range(1, 6))
-    home = home_leg_lengths(par)  # type: ignore[arg-type]
-    fns = _drive_list(drives, actuators, s.source)
-    ideal = ups_upu_ideal(par, drives=home if fns is None else fns, name=f"{s.name} (ideal)")  # type: ignore[arg-type]
+def _with_clearances(ideal: Mechanism, s: Scenario) -> Mechanism:
+    """The scenario's clearance mechanism: the ideal one with its clearance joints."""
     clr = ideal.copy()
     for name, joint in s.clearance.joints.items():
         clr = clr.with_clearance(name, joint.clearance())
     clr.name = f"{s.name} (clearance)"
-    info = BuildInfo(
-        mechanism_type=MechanismType.UPS_UPU,
-        platform_body="platform",
-        platform_marker="platform",
-        actuators=actuators,
-        actuator_joints=tuple(f"P_{k}" for k in range(1, 6)),
-        home_drives=home,
+    return clr
+
+
+def _info(s: Scenario, mtype: MechanismType, home_height: float, **specific) -> BuildInfo:
+    """BuildInfo fields shared by every mechanism type, plus the type-specific ones."""
+    kind = MECHANISMS[mtype]
+    return BuildInfo(
+        mechanism_type=mtype,
         clearance_joints=tuple(s.clearance.joints),
-        home_position=(0.0, 0.0, par.home_height),  # type: ignore[attr-defined]
+        home_position=(0.0, 0.0, home_height),
         trajectory=s.trajectory,
         pose_sequence=kind.sequence,
         pose_mode=kind.mode,
@@ -149,8 +145,27 @@ def _build_ups_upu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, B
         initial=s.clearance.initial,
         t_end=s.trajectory.duration,
         simulate_kwargs=s.solver.simulate_kwargs(),
+        **specific,
     )
-    return ideal, clr, info
+
+
+def _build_ups_upu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, BuildInfo]:
+    par = s.mechanism.params
+    actuators = tuple(f"drive_{k}" for k in range(1, 6))
+    home = home_leg_lengths(par)  # type: ignore[arg-type]
+    fns = _drive_list(drives, actuators, s.source)
+    ideal = ups_upu_ideal(par, drives=home if fns is None else fns, name=f"{s.name} (ideal)")  # type: ignore[arg-type]
+    info = _info(
+        s,
+        MechanismType.UPS_UPU,
+        par.home_height,  # type: ignore[attr-defined]
+        platform_body="platform",
+        platform_marker="platform",
+        actuators=actuators,
+        actuator_joints=tuple(f"P_{k}" for k in range(1, 6)),
+        home_drives=home,
+    )
+    return ideal, _with_clearances(ideal, s), info
 
 
 def _build_sps_cu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, BuildInfo]:
@@ -162,38 +177,24 @@ def _build_sps_cu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, Bu
     from clearance.mechanisms.sps_cu import sps_cu, sps_cu_home_lengths, sps_cu_names
 
     par = s.mechanism.params
-    kind = MECHANISMS[MechanismType.SPS_CU]
     names = sps_cu_names("two-body")
-    actuators = names.drives
     home = tuple(sps_cu_home_lengths(par))  # type: ignore[arg-type]
-    fns = _drive_list(drives, actuators, s.source)
+    fns = _drive_list(drives, names.drives, s.source)
     lengths = list(home) if fns is None else fns
     limbs = par.limb_model  # type: ignore[attr-defined]
     ideal = sps_cu(par, limbs=limbs, lengths=lengths, name=f"{s.name} (ideal)")  # type: ignore[arg-type]
-    ik_mech = sps_cu(par, limbs="two-body", lengths=lengths, name=f"{s.name} (IK)")  # type: ignore[arg-type]
-    clr = ideal.copy()
-    for name, joint in s.clearance.joints.items():
-        clr = clr.with_clearance(name, joint.clearance())
-    clr.name = f"{s.name} (clearance)"
-    info = BuildInfo(
-        mechanism_type=MechanismType.SPS_CU,
+    info = _info(
+        s,
+        MechanismType.SPS_CU,
+        par.home_height,  # type: ignore[attr-defined]
         platform_body=names.platform_body,
         platform_marker=names.platform_marker,
-        actuators=actuators,
+        actuators=names.drives,
         actuator_joints=names.prismatic_joints,
         home_drives=home,
-        clearance_joints=tuple(s.clearance.joints),
-        home_position=(0.0, 0.0, par.home_height),  # type: ignore[attr-defined]
-        trajectory=s.trajectory,
-        pose_sequence=kind.sequence,
-        pose_mode=kind.mode,
-        angle_coordinates=kind.angles,
-        initial=s.clearance.initial,
-        t_end=s.trajectory.duration,
-        simulate_kwargs=s.solver.simulate_kwargs(),
-        ik_mechanism=ik_mech,
+        ik_mechanism=sps_cu(par, limbs="two-body", lengths=lengths, name=f"{s.name} (IK)"),  # type: ignore[arg-type]
     )
-    return ideal, clr, info
+    return ideal, _with_clearances(ideal, s), info
 
 
 Builder = Callable[[Scenario, Drives], tuple[Mechanism, Mechanism, BuildInfo]]
