@@ -192,6 +192,95 @@ def export(
         typer.echo(str(f))
 
 
+@app.command()
+def sweep(
+    study: Path = typer.Argument(..., help="study file (TOML, see docs/sweeps.md)"),
+    scheduler: str = typer.Option(
+        None,
+        "--scheduler",
+        help="'serial' (in this process), a Dask scheduler address (tcp://host:8786) or a "
+        "scheduler file; default: a local cluster sized to this machine",
+    ),
+    workers: int = typer.Option(
+        None, "--workers", help="local cluster size; with --scheduler: wait for this many"
+    ),
+    out: Path = typer.Option(None, "--out", help="study folder (default: the study's folder)"),
+    retries: int = typer.Option(2, help="extra attempts of a failing case"),
+    check_only: bool = typer.Option(False, "--check", help="validate the study, run nothing"),
+) -> None:
+    """Run a parameter study on Dask (resumable: finished cases are skipped).
+
+    Exit status: 0 all cases finished; 1 some case failed; 2 invalid study; 130 interrupted.
+    """
+    import signal
+
+    from clearance.scenario import ScenarioError
+    from clearance.sweep import load_study, run_study
+
+    try:
+        s = load_study(study)
+    except ScenarioError as e:
+        for line in e.lines():
+            typer.echo(line, err=True)
+        raise typer.Exit(2) from None
+    if check_only:
+        typer.echo(
+            f"OK {study}: study '{s.name}', {len(s.cases)} cases, parameters "
+            f"{', '.join(p.name for p in s.parameters)}; folder {out or s.folder}"
+        )
+        return
+
+    def _terminate(signum, frame):  # SIGTERM (e.g. a batch system) stops like Ctrl-C
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        report = run_study(
+            s,
+            scheduler=scheduler,
+            n_workers=workers,
+            retries=retries,
+            progress=typer.echo,
+            folder=out,
+        )
+    except ScenarioError as e:
+        for line in e.lines():
+            typer.echo(line, err=True)
+        raise typer.Exit(2) from None
+    except KeyboardInterrupt:
+        raise typer.Exit(130) from None
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    if report.failed or not report.complete:
+        raise typer.Exit(1)
+
+
+@app.command()
+def collect(
+    folder: Path = typer.Argument(..., help="study folder written by `clearance sweep`"),
+    dataset: bool = typer.Option(True, "--dataset/--no-dataset", help="write the merged NetCDF"),
+    plots: bool = typer.Option(True, "--plots/--no-plots", help="draw the summary plots"),
+    variables: list[str] = typer.Option(
+        None, "--variable", help="keep only these data variables in the merged dataset"
+    ),
+) -> None:
+    """Merge a study's cases: dataset with a `case` dimension, summary table, plots."""
+    from clearance.scenario import ScenarioError
+    from clearance.sweep import collect_study
+
+    try:
+        o = collect_study(folder, dataset=dataset, plots=plots, variables=variables or None)
+    except ScenarioError as e:
+        for line in e.lines():
+            typer.echo(line, err=True)
+        raise typer.Exit(2) from None
+    counts = o.table["status"].value_counts().to_dict()
+    typer.echo(f"{len(o.table)} cases: " + ", ".join(f"{n} {k}" for k, n in sorted(counts.items())))
+    for f in (o.dataset, o.parquet, o.csv, *o.plots):
+        if f is not None:
+            typer.echo(str(f))
+
+
 def _load(path: Path, loader):
     if not path.is_file():
         typer.echo(f"error: {path}: no such result file", err=True)

@@ -1,0 +1,398 @@
+"""Run a study on Dask: a local cluster, an existing scheduler, or serially for debugging.
+
+    report = run_study("study.toml")                          # LocalCluster sized to the machine
+    report = run_study(study, scheduler="tcp://10.0.0.5:8786")  # an existing Dask cluster
+    report = run_study(study, scheduler="serial")             # in this process, one by one
+
+Each task is `run_case(task)`: plain data only (the base scenario dict, the case's overrides,
+the study folder, the metric names). The worker builds and validates the scenario, runs
+`run_scenario(..., figures=False)` (the compiled kernels come from numba's on-disk cache, so
+only a worker's first task pays for loading them), writes `cases/<id>.nc` and then the
+sidecar `cases/<id>.json`, both atomically. Cases already finished are skipped; an
+exception is retried `retries` times (Dask `retries`), a worker that dies (crash, OOM
+kill) makes the scheduler run the task elsewhere (`distributed.scheduler.allowed-failures`,
+set to `retries` on the local cluster); a case that still fails is recorded as failed in its
+sidecar with the reason, and the study goes on.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import socket
+import time
+import traceback
+import uuid
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from clearance.sweep.metrics import CaseData, compute_metrics
+from clearance.sweep.store import (
+    CASES,
+    FAILED,
+    FINISHED,
+    RUNNING,
+    case_files,
+    is_finished,
+    now,
+    prepare_folder,
+    read_json,
+    write_json,
+)
+from clearance.sweep.study import Case, Study, case_scenario_dict, load_study
+
+__all__ = ["StudyReport", "default_workers", "run_case", "run_study"]
+
+SERIAL = "serial"
+FAULT_EXIT_ONCE, FAULT_RAISE = "exit-once", "raise"
+
+
+@dataclass
+class StudyReport:
+    """Outcome of `run_study`. Case ids: skipped (finished before this run), submitted,
+    finished and failed (id -> reason) in this run, lost (not finished: interrupted or
+    cancelled; they run again next time)."""
+
+    study: str
+    folder: Path
+    n_cases: int
+    executor: str
+    skipped: list[str] = field(default_factory=list)
+    submitted: list[str] = field(default_factory=list)
+    finished: list[str] = field(default_factory=list)
+    failed: dict[str, str] = field(default_factory=dict)
+    lost: list[str] = field(default_factory=list)
+    wall_time: float = 0.0
+
+    @property
+    def complete(self) -> bool:
+        """Every case of the study is finished."""
+        return len(self.skipped) + len(self.finished) == self.n_cases
+
+    @property
+    def throughput(self) -> float:
+        """Cases finished per minute of this run's wall time."""
+        return 60.0 * len(self.finished) / self.wall_time if self.wall_time > 0 else 0.0
+
+    def summary(self) -> str:
+        return (
+            f"study '{self.study}' ({self.executor}): {self.n_cases} cases; "
+            f"{len(self.skipped)} already finished, {len(self.finished)} finished now, "
+            f"{len(self.failed)} failed, {len(self.lost)} not run; wall {self.wall_time:.1f} s "
+            f"({self.throughput:.1f} cases/min); folder {self.folder}"
+        )
+
+
+# --------------------------------------------------------------------------- the task
+
+
+def _fault(spec: Mapping[str, Any] | None) -> None:
+    """Test hook: make this case fail. {"kind": "exit-once", "marker": path} kills the
+    worker process on the first attempt only (the marker file records it); {"kind":
+    "raise"} raises on every attempt."""
+    if not spec:
+        return
+    if spec["kind"] == FAULT_EXIT_ONCE:
+        marker = Path(spec["marker"])
+        if not marker.exists():
+            marker.write_text(str(os.getpid()))
+            os._exit(1)
+    elif spec["kind"] == FAULT_RAISE:
+        raise RuntimeError(spec.get("message", "injected failure (test hook)"))
+
+
+def run_case(task: Mapping[str, Any]) -> dict:
+    """Run one case from plain data; return its sidecar (also written to the folder).
+
+    task: study (name), case (id), index, values, overrides, base (scenario dict), folder,
+    metrics (names), joint_template, and optionally fault (a test hook, see `_fault`).
+    The sidecar says "running" (with the attempt number) while the case runs, then
+    "finished" (metrics, summary, timings, result file size) or "failed" (reason and
+    traceback; the exception is re-raised so that Dask retries it).
+    """
+    import dask
+
+    from clearance.pipeline import run_scenario
+    from clearance.scenario.schema import scenario_from_dict
+
+    folder, cid = Path(task["folder"]), task["case"]
+    nc, side = case_files(folder, cid)
+    prev = read_json(side) or {}
+    attempts = int(prev.get("attempts", 0)) + 1 if prev.get("case") == cid else 1
+    info: dict[str, Any] = {
+        "case": cid,
+        "index": task["index"],
+        "study": task["study"],
+        "status": RUNNING,
+        "attempts": attempts,
+        "reason": "",
+        "values": task["values"],
+        "overrides": task["overrides"],
+        "worker": f"{socket.gethostname()}:{os.getpid()}",
+        "started": now(),
+    }
+    write_json(side, info)
+    t0 = time.perf_counter()
+    try:
+        _fault(task.get("fault"))
+        source = f"{task['study']}:{cid}"
+        d = case_scenario_dict(
+            task["base"], task["overrides"], joint_template=task["joint_template"], source=source
+        )
+        d["scenario"] = {**d["scenario"], "name": cid}
+        d["output"] = {**d.get("output", {}), "figures": False, "formats": ["netcdf"]}
+        s = scenario_from_dict(d, source=source)
+        # a local lock for the NetCDF write: inside a Dask worker xarray would otherwise take
+        # a cluster-wide lock, a scheduler round trip that fails while the cluster shuts down
+        with dask.config.set(scheduler="synchronous"):
+            out = run_scenario(s, out_dir=folder / CASES, figures=False, log=None)
+        metrics = compute_metrics(CaseData.from_run(out), task["metrics"])
+    except Exception as e:
+        info.update(
+            status=FAILED,
+            reason=f"{type(e).__name__}: {e}",
+            traceback=traceback.format_exc(limit=8),
+            ended=now(),
+            elapsed=time.perf_counter() - t0,
+        )
+        write_json(side, info)
+        raise
+    import clearance
+
+    info.update(
+        status=FINISHED,
+        ended=now(),
+        elapsed=time.perf_counter() - t0,
+        result_file=nc.name,
+        result_bytes=nc.stat().st_size,
+        success=bool(out.ideal.success and out.clearance.success),
+        message=out.clearance.message,
+        metrics=metrics,
+        summary=out.summary,
+        timings=out.timings,
+        clearance_version=clearance.__version__,
+    )
+    write_json(side, info)
+    return read_json(side) or info  # as collect will read it (JSON-normalised)
+
+
+# --------------------------------------------------------------------------- the study
+
+
+def default_workers() -> int:
+    """Cores available to this process (the default size of the local cluster)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover (macOS, Windows)
+        return os.cpu_count() or 1
+
+
+def _task(study: Study, case: Case, folder: Path, fault: Mapping | None) -> dict:
+    return {
+        "study": study.name,
+        "case": case.id,
+        "index": case.index,
+        "values": case.values,
+        "overrides": case.overrides,
+        "base": study.base,
+        "folder": str(folder),
+        "metrics": list(study.metrics),
+        "joint_template": study.joint_template,
+        "fault": (fault or {}).get(case.id),
+    }
+
+
+class _Tracker:
+    """Progress lines and the report's bookkeeping."""
+
+    def __init__(self, report: StudyReport, say: Callable[[str], None] | None, total: int):
+        self.report, self.say, self.total, self.t0 = report, say, total, time.perf_counter()
+
+    def _line(self, msg: str) -> None:
+        if self.say is None:
+            return
+        r = self.report
+        n = len(r.finished) + len(r.failed)
+        el = time.perf_counter() - self.t0
+        eta = el / n * (self.total - n) if n else float("nan")
+        self.say(f"[{n}/{self.total}] {msg}  (elapsed {el:.0f} s, ETA {eta:.0f} s)")
+
+    def finished(self, info: Mapping[str, Any], label: str) -> None:
+        self.report.finished.append(info["case"])
+        ok = "" if info.get("success", True) else f"; run stopped: {info.get('message')}"
+        self._line(f"{info['case']} finished in {info.get('elapsed', 0):.1f} s: {label}{ok}")
+
+    def failed(self, cid: str, reason: str, label: str) -> None:
+        self.report.failed[cid] = reason
+        self._line(f"{cid} FAILED ({label}): {reason}")
+
+
+def _record_failure(folder: Path, task: Mapping[str, Any], exc: BaseException) -> str:
+    """Make the sidecar say failed (a worker that died never wrote it); return the reason."""
+    _, side = case_files(folder, task["case"])
+    info = read_json(side) or {"case": task["case"], "attempts": 0}
+    if info.get("status") == FAILED and info.get("reason"):
+        return str(info["reason"])
+    reason = f"{type(exc).__name__}: {exc}"
+    info.update(
+        case=task["case"],
+        index=task["index"],
+        study=task["study"],
+        values=task["values"],
+        overrides=task["overrides"],
+        status=FAILED,
+        reason=reason,
+        ended=now(),
+    )
+    write_json(side, info)
+    return reason
+
+
+def _run_serial(tasks: list[dict], labels: dict, retries: int, tr: _Tracker) -> None:
+    for t in tasks:
+        for attempt in range(retries + 1):
+            try:
+                info = run_case(t)
+            except Exception as e:  # recorded in the sidecar by run_case
+                if attempt == retries:
+                    reason = _record_failure(Path(t["folder"]), t, e)
+                    tr.failed(t["case"], reason, labels[t["case"]])
+                continue
+            tr.finished(info, labels[t["case"]])
+            break
+
+
+def _client(scheduler: Any, n_workers: int | None, retries: int, n_tasks: int):
+    """(client, cluster we own or None, executor description)."""
+    import logging
+
+    import dask
+    from distributed import Client, LocalCluster
+
+    if isinstance(scheduler, Client):
+        return scheduler, None, f"Dask client {scheduler.scheduler.address}"
+    if scheduler is None:
+        n = n_workers or max(1, min(default_workers(), n_tasks))
+        with dask.config.set({"distributed.scheduler.allowed-failures": retries}):
+            cluster = LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.ERROR,
+            )
+        return Client(cluster), cluster, f"LocalCluster, {n} workers"
+    if Path(scheduler).is_file():
+        client = Client(scheduler_file=str(scheduler))
+    else:
+        client = Client(scheduler)
+    if n_workers:
+        client.wait_for_workers(n_workers)
+    return client, client, f"Dask scheduler {client.scheduler.address}"
+
+
+def _run_dask(
+    tasks: list[dict],
+    labels: dict,
+    scheduler: Any,
+    n_workers: int | None,
+    retries: int,
+    tr: _Tracker,
+) -> None:
+    from distributed import as_completed
+
+    client, owned, desc = _client(scheduler, n_workers, retries, len(tasks))
+    tr.report.executor = desc
+    if tr.say is not None:
+        tr.say(f"executor: {desc}")
+    futures: dict = {}
+    try:
+        for t in tasks:
+            key = f"clearance-case-{t['case']}-{uuid.uuid4().hex[:8]}"
+            futures[client.submit(run_case, t, key=key, retries=retries, pure=False)] = t
+        for fut in as_completed(list(futures)):
+            t = futures[fut]
+            label = labels[t["case"]]
+            if fut.status == "finished":
+                tr.finished(fut.result(), label)
+            elif fut.status == "error":
+                exc = fut.exception()
+                tr.failed(t["case"], _record_failure(Path(t["folder"]), t, exc), label)
+            fut.release()
+    finally:
+        for fut in futures:
+            if not fut.done():
+                fut.cancel()
+        if owned is not None:
+            with contextlib.suppress(Exception):
+                client.close()
+            with contextlib.suppress(Exception):
+                owned.close()
+
+
+def run_study(
+    study: Study | str | os.PathLike,
+    *,
+    scheduler: Any = None,
+    n_workers: int | None = None,
+    retries: int = 2,
+    progress: bool | Callable[[str], None] = True,
+    folder: str | os.PathLike | None = None,
+    _fault: Mapping[str, Mapping[str, Any]] | None = None,
+) -> StudyReport:
+    """Run every unfinished case of a study; return a `StudyReport`.
+
+    study: a `Study` or a study file (validated completely before anything is written).
+    scheduler: None = a `distributed.LocalCluster` with `n_workers` single-threaded worker
+    processes (default: the cores available, at most one per case); "serial" = in this
+    process, one case after the other (for debugging: breakpoints work); an address
+    ("tcp://host:8786") or a scheduler file of an existing Dask cluster (`n_workers`: wait
+    until that many workers are connected); or a `distributed.Client`.
+    retries: extra attempts of a case that raises (and, on the local cluster, the allowed
+    worker deaths per case). progress: print a line per case (or a callable taking each
+    line). folder: the study folder (default: the study's). _fault: test hook, case id ->
+    {"kind": "exit-once", "marker": path} or {"kind": "raise"}.
+    KeyboardInterrupt stops the study; finished cases stay finished, the others run on the
+    next call.
+    """
+    t0 = time.perf_counter()
+    if not isinstance(study, Study):
+        study = load_study(study)
+    folder = Path(folder).expanduser().resolve() if folder is not None else study.folder
+    say = print if progress is True else (progress or None)
+    prepare_folder(study, folder)
+    report = StudyReport(study.name, folder, len(study.cases), str(scheduler or "LocalCluster"))
+    pending = [c for c in study.cases if not is_finished(folder, c)]
+    todo = {c.id for c in pending}
+    report.skipped = [c.id for c in study.cases if c.id not in todo]
+    if say is not None:
+        say(
+            f"study '{study.name}': {len(study.cases)} cases, {len(report.skipped)} already "
+            f"finished, {len(pending)} to run; folder {folder}"
+        )
+    tasks = [_task(study, c, folder, _fault) for c in pending]
+    report.submitted = [t["case"] for t in tasks]
+    labels = {c.id: c.label() for c in pending}
+    tr = _Tracker(report, say, len(tasks))
+    try:
+        if tasks and scheduler == SERIAL:
+            report.executor = SERIAL
+            _run_serial(tasks, labels, retries, tr)
+        elif tasks:
+            _run_dask(tasks, labels, scheduler, n_workers, retries, tr)
+    except KeyboardInterrupt:
+        if say is not None:
+            done = len(report.skipped) + len(report.finished)
+            say(f"interrupted: {done} of {len(study.cases)} cases finished; rerun to resume")
+        raise
+    finally:
+        done = set(report.finished) | set(report.failed)
+        report.lost = [cid for cid in report.submitted if cid not in done]
+        report.wall_time = time.perf_counter() - t0
+    if say is not None:
+        say(report.summary())
+        for cid, reason in report.failed.items():
+            say(f"  failed {cid}: {reason}")
+    return report
