@@ -1,0 +1,458 @@
+"""Parameter studies (issue: `clearance sweep` on Dask): validation, case generation,
+LocalCluster == serial, resumption, killed workers and failing cases, interrupt and restart,
+collect. Runs are short (0.06 s simulated, output every 1 ms) so the whole file stays near
+a minute on 2 cores once numba's on-disk cache is warm."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import dask
+import numpy as np
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from clearance.cli.main import app
+from clearance.io.dataset import load_results
+from clearance.scenario import ScenarioError
+from clearance.sweep import (
+    CaseData,
+    StudyError,
+    collect_study,
+    compute_metrics,
+    load_study,
+    loads_study,
+    run_study,
+)
+from clearance.sweep.study import example_study_path
+
+SHORT = """\
+format_version = 1
+
+[study]
+name = "{name}"
+base = "ups_upu"
+folder = "{folder}"
+metrics = {metrics}
+
+[set]
+trajectory.duration = 0.06
+solver.dt_out = 1e-3
+{parameters}
+"""
+METRIC_NAMES = [
+    "peak_contact_force",
+    "peak_contact_force@S_1",
+    "rms_contact_force",
+    "impacts",
+    "max_penetration",
+    "deviation_position",
+    "deviation_velocity",
+    "deviation_acceleration",
+    "deviation_angular_velocity",
+    "energy_dissipated",
+    "energy_residual",
+    "success",
+    "wall_time",
+]
+GRID = """
+[[parameter]]
+name = "radial_clearance"
+path = ["clearance.joints.S_1.radial_clearance", "clearance.joints.S_3.radial_clearance"]
+values = [1e-4, 3e-4, 5e-4]
+
+[[parameter]]
+name = "mu_c"
+path = ["clearance.joints.S_1.friction.mu_c", "clearance.joints.S_3.friction.mu_c"]
+values = [0.05, 0.15]
+"""
+NOT_TIMING = [m for m in METRIC_NAMES if m != "wall_time"]
+
+
+def study_text(folder: Path, parameters: str = GRID, *, name: str = "t", metrics=None) -> str:
+    return SHORT.format(
+        name=name,
+        folder=folder,
+        metrics=json.dumps(metrics or METRIC_NAMES),
+        parameters=parameters,
+    )
+
+
+def sidecars(folder: Path) -> dict[str, dict]:
+    """Case id -> sidecar (an empty dict if the folder has no cases yet)."""
+    return {p.stem: json.loads(p.read_text()) for p in sorted((folder / "cases").glob("*.json"))}
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    """The 3 x 2 study, run serially in this process."""
+    folder = tmp_path_factory.mktemp("serial") / "study"
+    study = loads_study(study_text(folder), source="grid.toml")
+    report = run_study(study, scheduler="serial", progress=False)
+    return study, report
+
+
+@pytest.fixture(scope="module")
+def client():
+    """A LocalCluster of 2 single-threaded worker processes (what `clearance sweep` starts
+    on a 2-core machine), allowing 2 worker deaths per task."""
+    from distributed import Client, LocalCluster
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 2}):
+        cluster = LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        )
+    c = Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+# --------------------------------------------------------------------------- validation
+
+INVALID = {
+    "unknown path": (
+        '[[parameter]]\npath = "clearance.joints.S_1.radial_clearence"\nvalues = [1e-4]',
+        "parameter[0].path",
+        "radial_clearence",
+    ),
+    "unknown joint": (
+        '[[parameter]]\npath = "clearance.joints.S1.radial_clearance"\nvalues = [1e-4]',
+        "parameter[0].path",
+        "did you mean 'S_1'",
+    ),
+    "negative clearance": (
+        '[[parameter]]\npath = "clearance.joints.S_1.radial_clearance"\nvalues = [1e-4, -3e-4]',
+        "clearance.joints.S_1.radial_clearance",
+        "-0.0003",
+    ),
+    "range without num or step": (
+        '[[parameter]]\npath = "solver.rtol"\nrange = { start = 1e-6, stop = 1e-4 }',
+        "parameter[0].range",
+        "exactly one of num",
+    ),
+    "range num 0": (
+        '[[parameter]]\npath = "solver.rtol"\nrange = { start = 1e-6, stop = 1e-4, num = 0 }',
+        "parameter[0].range.num",
+        "integer >= 1",
+    ),
+    "zip lengths": (
+        '[[parameter]]\npath = "solver.rtol"\nvalues = [1e-6, 1e-7]\nzip = "tol"\n'
+        '[[parameter]]\npath = "solver.atol"\nvalues = [1e-9]\nzip = "tol"',
+        "parameter[0].zip",
+        "same number of values",
+    ),
+    "invalid law value": (
+        '[[parameter]]\npath = "clearance.joints.S_1.friction.mu_c"\nvalues = [0.05, -1.0]',
+        "clearance.joints.S_1.friction.mu_c",
+        "-1.0",
+    ),
+    "output is not a parameter": (
+        '[[parameter]]\npath = "output.folder"\nvalues = ["x"]',
+        "parameter[0].path",
+        "set by the study",
+    ),
+}
+
+
+@pytest.mark.parametrize("what", list(INVALID))
+def test_invalid_study_fails_before_anything_is_written(tmp_path, what):
+    body, field, text = INVALID[what]
+    folder = tmp_path / "study"
+    path = tmp_path / "study.toml"
+    path.write_text(study_text(folder, body))
+    with pytest.raises(StudyError) as e:
+        run_study(path, scheduler="serial", progress=False)
+    msg = str(e.value)
+    assert f"field '{field}'" in msg and text in msg and "study.toml" in msg, msg
+    assert any(p.field == field for p in e.value.problems)
+    assert not folder.exists()
+
+
+def test_unknown_metric_and_cli_check(tmp_path):
+    folder = tmp_path / "study"
+    path = tmp_path / "study.toml"
+    path.write_text(study_text(folder, metrics=["peak_contact_forse", "wall_time@S_1"]))
+    with pytest.raises(StudyError) as e:
+        load_study(path)
+    lines = e.value.lines()
+    assert "'study.metrics[0]' = 'peak_contact_forse'" in lines[0]
+    assert "did you mean 'peak_contact_force'" in lines[0]
+    assert "'study.metrics[1]'" in lines[1] and "not per joint" in lines[1]
+    r = CliRunner().invoke(app, ["sweep", str(path)])
+    assert r.exit_code == 2 and "peak_contact_forse" in r.output
+    assert not folder.exists()
+    path.write_text(study_text(folder))
+    r = CliRunner().invoke(app, ["sweep", str(path), "--check"])
+    assert r.exit_code == 0 and "6 cases" in r.output
+    assert not folder.exists()
+
+
+def test_example_study_is_valid():
+    s = load_study(example_study_path())
+    assert len(s.cases) == 6 and [p.name for p in s.parameters] == ["radial_clearance", "mu_c"]
+    assert isinstance(StudyError("f", "x", 1, "y"), ScenarioError)
+
+
+# --------------------------------------------------------------------------- case generation
+
+
+def test_grid_zip_ranges_and_stable_ids(tmp_path):
+    params = """
+[[parameter]]
+path = "clearance.joints.S_1.radial_clearance"
+range = { start = 1e-4, stop = 5e-4, step = 2e-4 }
+
+[[parameter]]
+path = "solver.rtol"
+range = { start = 1e-7, stop = 1e-5, num = 3 }
+scale = "log"
+
+[[parameter]]
+path = "clearance.joints.S_1.normal.restitution"
+values = [0.5, 0.7, 0.9]
+zip = "g"
+
+[[parameter]]
+path = "clearance.joints.S_1.friction.mu_c"
+values = [0.05, 0.1, 0.15]
+zip = "g"
+
+[[parameter]]
+path = "clearance.joints"
+values = [["S_1"], ["S_1", "S_2"]]
+"""
+    s = loads_study(study_text(tmp_path, params), source="g.toml")
+    assert len(s.cases) == 3 * 3 * 3 * 2  # grid x zip group x joint sets
+    vals = [c.values for c in s.cases]
+    assert sorted({v["clearance.joints.S_1.radial_clearance"] for v in vals}) == [
+        1e-4,
+        3e-4,
+        5e-4,
+    ]
+    assert sorted({v["solver.rtol"] for v in vals}) == [1e-7, 1e-6, 1e-5]
+    pairs = {
+        (v["clearance.joints.S_1.normal.restitution"], v["clearance.joints.S_1.friction.mu_c"])
+        for v in vals
+    }
+    assert pairs == {(0.5, 0.05), (0.7, 0.1), (0.9, 0.15)}
+    assert len({c.id for c in s.cases}) == len(s.cases)
+    # ids are hashes of the overrides: reordering values keeps them
+    rev = params.replace('[["S_1"], ["S_1", "S_2"]]', '[["S_1", "S_2"], ["S_1"]]')
+    s2 = loads_study(study_text(tmp_path, rev), source="g.toml")
+    assert {c.id for c in s2.cases} == {c.id for c in s.cases}
+    assert [c.id for c in s2.cases] != [c.id for c in s.cases]
+
+
+def test_latin_hypercube_reproducible_and_within_bounds(tmp_path):
+    params = """
+[[parameter]]
+path = "clearance.joints.S_1.radial_clearance"
+sample = { min = 1e-4, max = 5e-4, scale = "log" }
+
+[[parameter]]
+path = "clearance.joints.S_1.friction.mu_c"
+sample = { min = 0.05, max = 0.15 }
+
+[[parameter]]
+path = "solver.rtol"
+values = [1e-6, 1e-7]
+
+[sampling]
+method = "lhs"
+n = 8
+seed = {seed}
+"""
+
+    def draw(seed: int, method: str = "lhs"):
+        text = study_text(tmp_path, params.replace("{seed}", str(seed)))
+        s = loads_study(text.replace('"lhs"', f'"{method}"'), source="lhs.toml")
+        c = np.array(
+            [
+                [
+                    v["clearance.joints.S_1.radial_clearance"],
+                    v["clearance.joints.S_1.friction.mu_c"],
+                ]
+                for v in (case.values for case in s.cases)
+            ]
+        )
+        return s, c
+
+    s, a = draw(1)
+    assert len(s.cases) == 16  # 8 samples x 2 rtol values
+    _, b = draw(1)
+    _, other = draw(2)
+    _, rnd = draw(1, "random")
+    assert np.array_equal(a, b) and not np.array_equal(a, other) and not np.array_equal(a, rnd)
+    pts = a[::2]  # each sample once (the rtol factor comes last)
+    assert np.all((pts[:, 0] >= 1e-4) & (pts[:, 0] <= 5e-4))
+    assert np.all((pts[:, 1] >= 0.05) & (pts[:, 1] <= 0.15))
+    # Latin hypercube: exactly one point in each of the 8 strata of every coordinate
+    u0 = np.log(pts[:, 0] / 1e-4) / np.log(5.0)
+    u1 = (pts[:, 1] - 0.05) / 0.1
+    for u in (u0, u1):
+        assert sorted(np.minimum((u * 8).astype(int), 7)) == list(range(8))
+
+
+# --------------------------------------------------------------------------- execution
+
+
+def test_local_cluster_gives_the_serial_results(serial, client, tmp_path):
+    """Same code, same inputs: every metric and every saved array is bitwise equal (worker
+    processes run the same compiled kernels; BLAS is single-threaded in both)."""
+    study, rep_serial = serial
+    assert rep_serial.complete and not rep_serial.failed and len(rep_serial.finished) == 6
+    folder = tmp_path / "cluster"
+    rep = run_study(study, scheduler=client, folder=folder, progress=False)
+    assert rep.complete and sorted(rep.finished) == sorted(c.id for c in study.cases)
+    a, b = sidecars(study.folder), sidecars(folder)
+    assert set(a) == set(b) == {c.id for c in study.cases}
+    workers = {s["worker"] for s in b.values()}
+    assert len(workers) == 2  # both workers took cases
+    for cid in a:
+        ma, mb = a[cid]["metrics"], b[cid]["metrics"]
+        for m in NOT_TIMING:
+            assert ma[m] == mb[m] or (math.isnan(ma[m]) and math.isnan(mb[m])), (cid, m)
+        assert all(math.isfinite(ma[m]) for m in NOT_TIMING)
+    cid = study.cases[-1].id
+    x = load_results(study.folder / "cases" / f"{cid}.nc")
+    y = load_results(folder / "cases" / f"{cid}.nc")
+    for g in x:
+        for v in x[g].data_vars:
+            xv, yv = x[g][v].values, y[g][v].values
+            assert np.array_equal(xv, yv, equal_nan=xv.dtype.kind == "f"), (g, v)
+
+
+def test_rerun_skips_finished_cases_and_redoes_a_deleted_one(serial, tmp_path):
+    study, _ = serial
+    folder = tmp_path / "copy"
+    shutil.copytree(study.folder, folder)
+    before = sidecars(folder)
+    rep = run_study(study, scheduler="serial", folder=folder, progress=False)
+    assert rep.submitted == [] and len(rep.skipped) == 6 and rep.complete
+    assert sidecars(folder) == before
+    victim = study.cases[2].id
+    (folder / "cases" / f"{victim}.nc").unlink()
+    rep = run_study(study, scheduler="serial", folder=folder, progress=False)
+    assert rep.submitted == [victim] == rep.finished
+    after = sidecars(folder)
+    assert {k: v for k, v in after.items() if k != victim} == {
+        k: v for k, v in before.items() if k != victim
+    }
+    assert after[victim]["attempts"] == 2 and after[victim]["status"] == "finished"
+    assert after[victim]["metrics"]["impacts"] == before[victim]["metrics"]["impacts"]
+
+
+def test_killed_worker_is_retried_and_failing_case_is_recorded(client, tmp_path):
+    """One case kills its worker process on its first attempt (os._exit): the scheduler
+    reruns it elsewhere. Another raises on every attempt: recorded as failed with the
+    reason after 1 + retries attempts. The others finish."""
+    params = """
+[[parameter]]
+path = "clearance.joints.S_1.radial_clearance"
+values = [1e-4, 3e-4, 5e-4]
+"""
+    folder = tmp_path / "faults"
+    study = loads_study(study_text(folder, params, metrics=["impacts"]), source="f.toml")
+    killer, failing, fine = (c.id for c in study.cases)
+    marker = tmp_path / "killed-once"
+    fault = {
+        killer: {"kind": "exit-once", "marker": str(marker)},
+        failing: {"kind": "raise", "message": "injected failure"},
+    }
+    rep = run_study(study, scheduler=client, retries=1, progress=False, _fault=fault)
+    assert marker.exists()
+    assert sorted(rep.finished) == sorted([killer, fine])
+    assert list(rep.failed) == [failing] and "injected failure" in rep.failed[failing]
+    sc = sidecars(folder)
+    assert sc[killer]["status"] == "finished" and sc[killer]["attempts"] == 2
+    assert sc[fine]["status"] == "finished" and sc[fine]["attempts"] == 1
+    assert sc[failing]["status"] == "failed" and sc[failing]["attempts"] == 2
+    assert "RuntimeError: injected failure" in sc[failing]["reason"]
+    table = collect_study(folder, dataset=False, plots=False).table.set_index("case")
+    assert table.loc[failing, "status"] == "failed"
+    assert "injected failure" in table.loc[failing, "reason"]
+    assert math.isnan(table.loc[failing, "impacts"]) and table.loc[fine, "impacts"] > 0
+
+
+def test_interrupted_study_resumes_without_redoing_finished_cases(client, tmp_path):
+    """`clearance sweep` in a subprocess (its own LocalCluster) is stopped with SIGTERM after
+    the first case finishes; the rerun skips every finished case (their sidecars are
+    untouched) and finishes the rest."""
+    params = """
+[[parameter]]
+path = "clearance.joints.S_1.radial_clearance"
+values = [1e-4, 2e-4, 3e-4, 4e-4, 5e-4, 6e-4]
+"""
+    folder = tmp_path / "interrupted"
+    path = tmp_path / "study.toml"
+    path.write_text(study_text(folder, params, metrics=["impacts"]))
+    cmd = [sys.executable, "-c", "from clearance.cli.main import app; app()"]
+    proc = subprocess.Popen(
+        [*cmd, "sweep", str(path), "--workers", "2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
+    t0 = time.monotonic()  # generous: a cold numba cache compiles on each worker first
+    while time.monotonic() - t0 < 300 and proc.poll() is None:
+        if any(s.get("status") == "finished" for s in sidecars(folder).values()):
+            break
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGTERM)
+    out, _ = proc.communicate(timeout=120)
+    assert proc.returncode == 130, out
+    assert "interrupted" in out
+    before = {k: v for k, v in sidecars(folder).items() if v["status"] == "finished"}
+    assert 1 <= len(before) < 6, out
+    study = load_study(path)
+    rep = run_study(study, scheduler=client, progress=False)
+    assert rep.complete and sorted(rep.skipped) == sorted(before)
+    assert not set(rep.submitted) & set(before)
+    after = sidecars(folder)
+    assert {k: after[k] for k in before} == before  # finished cases were not touched
+    assert all(s["status"] == "finished" for s in after.values()) and len(after) == 6
+
+
+# --------------------------------------------------------------------------- collect
+
+
+def test_collect_dataset_table_and_plots(serial):
+    study, _ = serial
+    out = collect_study(study.folder)
+    n = len(study.cases)
+    data = load_results(out.dataset)
+    assert {"summary", "ideal", "clearance"} <= set(data)
+    assert data["clearance"].sizes["case"] == n == data["summary"].sizes["case"]
+    assert data["clearance"]["contact_force"].dims[0] == "case"
+    assert list(data["clearance"]["mu_c"].values) == [c.values["mu_c"] for c in study.cases]
+    for table in (pd.read_parquet(out.parquet), pd.read_csv(out.csv)):
+        assert len(table) == n and set(table["status"]) == {"finished"}
+        assert {"case", "radial_clearance", "mu_c", *METRIC_NAMES} <= set(table.columns)
+        assert table["radial_clearance"].nunique() == 3 and table["mu_c"].nunique() == 2
+    assert {p.name for p in out.plots} == {"radial_clearance.png", "mu_c.png"}
+    assert all(p.stat().st_size > 1000 for p in out.plots)
+    # metrics from the saved files equal those computed on the worker
+    cid = study.cases[0].id
+    side = json.loads((study.folder / "cases" / f"{cid}.json").read_text())
+    again = compute_metrics(
+        CaseData.from_files(study.folder / "cases" / f"{cid}.nc", side), METRIC_NAMES
+    )
+    assert again == side["metrics"]
+    r = CliRunner().invoke(app, ["collect", str(study.folder), "--no-dataset", "--no-plots"])
+    assert r.exit_code == 0 and "6 finished" in r.output
+
+
+def test_collect_of_a_folder_that_is_not_a_study(tmp_path):
+    with pytest.raises(StudyError, match="not a study folder"):
+        collect_study(tmp_path)
+    assert os.listdir(tmp_path) == []
