@@ -414,8 +414,8 @@ values = [1e-4, 2e-4, 3e-4, 4e-4, 5e-4, 6e-4]
     assert "interrupted" in out
     before = {k: v for k, v in sidecars(folder).items() if v["status"] == "finished"}
     assert 1 <= len(before) < 6, out
-    study = load_study(path)
-    rep = run_study(study, scheduler=client, progress=False)
+    study = load_study(path)  # resumed through the scheduler's address, as on a cluster
+    rep = run_study(study, scheduler=client.scheduler.address, n_workers=2, progress=False)
     assert rep.complete and sorted(rep.skipped) == sorted(before)
     assert not set(rep.submitted) & set(before)
     after = sidecars(folder)

@@ -265,14 +265,14 @@ def _run_serial(tasks: list[dict], labels: dict, retries: int, tr: _Tracker) -> 
 
 
 def _client(scheduler: Any, n_workers: int | None, retries: int, n_tasks: int):
-    """(client, cluster we own or None, executor description)."""
+    """(client, what to close afterwards, executor description)."""
     import logging
 
     import dask
     from distributed import Client, LocalCluster
 
     if isinstance(scheduler, Client):
-        return scheduler, None, f"Dask client {scheduler.scheduler.address}"
+        return scheduler, [], f"Dask client {scheduler.scheduler.address}"
     if scheduler is None:
         n = n_workers or max(1, min(default_workers(), n_tasks))
         with dask.config.set({"distributed.scheduler.allowed-failures": retries}):
@@ -283,14 +283,15 @@ def _client(scheduler: Any, n_workers: int | None, retries: int, n_tasks: int):
                 dashboard_address=None,
                 silence_logs=logging.ERROR,
             )
-        return Client(cluster), cluster, f"LocalCluster, {n} workers"
+        client = Client(cluster)
+        return client, [client, cluster], f"LocalCluster, {n} workers"
     if Path(scheduler).is_file():
         client = Client(scheduler_file=str(scheduler))
     else:
         client = Client(scheduler)
     if n_workers:
         client.wait_for_workers(n_workers)
-    return client, client, f"Dask scheduler {client.scheduler.address}"
+    return client, [client], f"Dask scheduler {client.scheduler.address}"
 
 
 def _run_dask(
@@ -303,7 +304,7 @@ def _run_dask(
 ) -> None:
     from distributed import as_completed
 
-    client, owned, desc = _client(scheduler, n_workers, retries, len(tasks))
+    client, to_close, desc = _client(scheduler, n_workers, retries, len(tasks))
     tr.report.executor = desc
     if tr.say is not None:
         tr.say(f"executor: {desc}")
@@ -325,11 +326,9 @@ def _run_dask(
         for fut in futures:
             if not fut.done():
                 fut.cancel()
-        if owned is not None:
+        for obj in to_close:
             with contextlib.suppress(Exception):
-                client.close()
-            with contextlib.suppress(Exception):
-                owned.close()
+                obj.close()
 
 
 def run_study(
