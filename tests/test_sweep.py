@@ -303,6 +303,42 @@ seed = {seed}
         assert sorted(np.minimum((u * 8).astype(int), 7)) == list(range(8))
 
 
+def test_metric_aggregation_over_joints():
+    """Per-joint metrics: '@J' is that joint (NaN if it has no clearance in the case);
+    without it, max (sum for impacts) over the case's joints, 0 with no clearance joint."""
+    joints = {
+        "S_1": {"peak_contact_force": 10.0, "impacts": 2, "rms_contact_force": 1.0},
+        "S_3": {"peak_contact_force": 30.0, "impacts": 5, "rms_contact_force": 0.5},
+    }
+    runs = {"status": 0, "energy_residual_relative": 1e-9, "real_time_factor": 2.0}
+    summary = {"joints": joints, "deviation_rms": {}, "ideal": runs, "clearance": runs}
+    energy = {"damping": np.array([0.0, 0.25]), "friction": np.array([0.0, 0.5])}
+    case = CaseData(summary, {"total": 3.0}, lambda run, term: energy[term], dict)
+    names = [
+        "peak_contact_force",
+        "peak_contact_force@S_1",
+        "peak_contact_force@S_2",
+        "impacts",
+        "rms_contact_force",
+        "deviation_position",
+        "energy_dissipated",
+        "wall_time",
+        "success",
+        "max_penetration",
+    ]
+    m = compute_metrics(case, names)
+    assert m["peak_contact_force"] == 30.0 and m["peak_contact_force@S_1"] == 10.0
+    assert math.isnan(m["peak_contact_force@S_2"]) and math.isnan(m["deviation_position"])
+    assert m["impacts"] == 7 and m["rms_contact_force"] == 1.0
+    assert m["energy_dissipated"] == 0.75 and m["wall_time"] == 3.0 and m["success"] == 1.0
+    assert math.isnan(m["max_penetration"])  # not in this summary: NaN, not an error
+    empty = CaseData({**summary, "joints": {}}, {}, lambda run, term: energy[term], dict)
+    assert compute_metrics(empty, ["peak_contact_force", "impacts"]) == {
+        "peak_contact_force": 0.0,
+        "impacts": 0.0,
+    }
+
+
 # --------------------------------------------------------------------------- execution
 
 
