@@ -459,8 +459,8 @@ def loads_study(
 
 
 def load_study(path: str | os.PathLike) -> Study:
-    """Read and validate a study file; StudyError (or ScenarioError for the base scenario's
-    file) lists every problem. Nothing is written."""
+    """Read and validate a study file. One StudyError lists every problem, those of the
+    base scenario file included (named with that file). Nothing is written."""
     p = Path(path)
     try:
         d = read_toml(p)
