@@ -74,7 +74,7 @@ def _put(J, r, k, v):
     J[r, k + 2] = v[2]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _target_vectors(fval, ix):
     """c, c_dot, c_ddot of c(t) = R1(t1) R2(t2) R3(t3) e_m (orientation driver).
 
@@ -123,7 +123,7 @@ def _target_vectors(fval, ix):
     return c, cd, cdd
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def eval_primitives(model, bA, br, brd, bw, fval, phi, phit, gam, J):
     """Evaluate every primitive of `model` into phi, phi_t, gamma and J (row blocks).
 

@@ -41,7 +41,7 @@ CO_PB = 16  # ball centre world (3)
 NCOUT = 19
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _centres(model, k, bA, br, fval):
     """Arms (world) of the socket and ball centres from their body's mass centre, the
     centres' velocities relative to their bodies (A sb_dot, world) and A sb_ddot."""
@@ -52,7 +52,7 @@ def _centres(model, k, bA, br, fval):
     return (matvec(bA[s], sbs), matvec(bA[b], sbb), matvec(bA[s], us_b), matvec(bA[b], ub_b))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def clearance_geometry(model, k, bA, br, fval):
     """(e (world), |e|, delta) of clearance joint k; fval: time functions at the current t."""
     s = model.clr_bs[k]
@@ -65,7 +65,7 @@ def clearance_geometry(model, k, bA, br, fval):
     return e, el, el - model.clr_geo[k, 2]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def clearance_forces(model, y, wk, ydot):
     """Add the contact forces of all clearance joints to wk.Q; write z_dot and the D_n, D_t
     rates into ydot; fill the diagnostics wk.cout (nclr, NCOUT). Returns the power of the
@@ -152,7 +152,7 @@ def clearance_forces(model, y, wk, ydot):
     return p_moving
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def contact_energy(model, bA, br, fval):
     """V_c = sum of the elastic energies stored in the contacts [J]."""
     V = 0.0

@@ -3,6 +3,15 @@
 Pipeline, readable top to bottom: body kinematics -> time functions -> constraint rows ->
 applied forces -> clearance-joint contact forces -> Baumgarte (the one place it is applied)
 -> constrained solve -> y_dot.
+
+Hot-path kernels (here, in solve, primitives, contact.joint and integrate.events/loops) are
+compiled with `_nrt=False`, i.e. without numba's reference counting. With it, every call
+that passes the Model / Work named tuples increfs and decrefs each of their ~70 arrays
+(atomic operations), and every array view (`bA[b]`) does the same: that cost about 40 % of
+a right-hand side. The kernels never allocate, so they need no reference counting; the few
+helpers that do allocate (LAPACK inverse, dense LU, least squares) are compiled with
+`_nrt=True` and called from the kernels as usual. Callees without the option inherit it from
+the first caller that compiles them, which only changes their speed, never their results.
 """
 
 from __future__ import annotations
@@ -83,7 +92,7 @@ def make_work(model) -> Work:
     )
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def body_states(model, y, wk):
     """Rotation matrices, positions, velocities and world angular velocities of all bodies."""
     nb = model.nb
@@ -99,7 +108,7 @@ def body_states(model, y, wk):
             wk.bw[b, a] = A[a, 0] * y[v + 3] + A[a, 1] * y[v + 4] + A[a, 2] * y[v + 5]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def update_inertia(model, wk):
     """J'(t) = J'_0 + diag(k) (l(t) - a)^2 and J'_dot for InertiaVariation bodies (physics.md
     i); needs wk.fval evaluated at t."""
@@ -115,10 +124,17 @@ def update_inertia(model, wk):
             k = model.body_var[b, a]
             wk.bJ[b, a, a] += k * x * x
             wk.bJd[b, a] = 2.0 * k * x * xd
-        wk.bJinv[b] = np.linalg.inv(wk.bJ[b])
+        _inverse(wk.bJ[b], wk.bJinv[b])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=True)
+def _inverse(A, out):
+    """out = A^-1 (LAPACK, allocates: compiled with reference counting, see the module
+    docstring)."""
+    out[:, :] = np.linalg.inv(A)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def constraint_rows(model, t, y, wk):
     """Kinematics of all constraint rows: phi, phi_t, gamma, J and phi_dot = J v + phi_t.
 
@@ -139,7 +155,7 @@ def constraint_rows(model, t, y, wk):
         wk.phid[r] = s
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def rhs(t, y, model, wk, alpha, beta, solver, ydot):
     """Write y_dot; return 0 on success, 1 if the constraint matrix is singular.
 

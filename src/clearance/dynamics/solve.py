@@ -27,7 +27,7 @@ class Solver(IntEnum):
     LSTSQ = 2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _minv_blocks(model, Jinv, J, JM, Q, MiQ):
     """JM = M^-1 J^T (row blocks) and MiQ = M^-1 Q."""
     m = model.nrow
@@ -58,7 +58,7 @@ def _minv_blocks(model, Jinv, J, JM, Q, MiQ):
             MiQ[b, 3 + a] = Ji[a, 0] * Q[b, 3] + Ji[a, 1] * Q[b, 4] + Ji[a, 2] * Q[b, 5]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def assemble_schur(model, J, JM, S):
     """Lower triangle of S = J M^-1 J^T in factor order (row r at position row_pos[r])."""
     m = model.nrow
@@ -86,7 +86,7 @@ def assemble_schur(model, J, JM, S):
                     S[pc, pa] += v
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def envelope_cholesky(S, m, first):
     """In-place lower Cholesky of the envelope of S (first[i] = first non-zero column).
 
@@ -121,7 +121,7 @@ def envelope_cholesky(S, m, first):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def envelope_solve(L, m, first, x):
     """Solve L L^T x = b in place (x holds b on entry)."""
     for i in range(m):
@@ -136,7 +136,7 @@ def envelope_solve(L, m, first, x):
             x[k] -= L[i, k] * xi
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def solve_constrained(model, wk, solver):
     """Solve for v_dot (wk.vd) and lam (wk.lam) from wk.J, wk.gB, wk.Q with the current
     inertia wk.bJ / wk.bJinv; return 0, or 1 if the constraint matrix is singular."""
@@ -158,7 +158,7 @@ def solve_constrained(model, wk, solver):
     )
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
     """Solve the augmented system for v_dot (vd, (nb, 6)) and lam; return 0 or 1 (singular)."""
     m = model.nrow
@@ -187,26 +187,7 @@ def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
             return 1
         envelope_solve(S, m, first, rl)
     else:
-        # Symmetric Jacobi scaling D S D, D = diag(S)^-1/2, before least squares: rows of
-        # very different physical scale (light links, small inertias) otherwise cost ~1e-9
-        # relative accuracy, and the rank cut rcond would act on units, not on dependence.
-        # lam serves as scratch for D (it is filled from rl afterwards).
-        for a in range(m):
-            lam[a] = 1.0 / math.sqrt(S[a, a]) if S[a, a] > 0.0 else 0.0
-        for a in range(m):
-            for c in range(a + 1):
-                S[a, c] *= lam[a] * lam[c]
-                S[c, a] = S[a, c]
-            rl[a] *= lam[a]
-        Ss = S  # (m, m)
-        b = rl[:m].copy()
-        sol = np.linalg.lstsq(Ss, b, 1e-10)[0]
-        # one step of iterative refinement: the SVD solve is ~10x less accurate than the
-        # Cholesky one, and light bodies amplify multiplier errors in v_dot
-        res = b - Ss @ sol
-        sol += np.linalg.lstsq(Ss, res, 1e-10)[0]
-        for a in range(m):
-            rl[a] = sol[a] * lam[a]
+        _lstsq(S, m, rl, lam)
     for r in range(m):
         lam[r] = rl[model.row_pos[r]]
     for r in range(m):
@@ -220,7 +201,33 @@ def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
     return 0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=True)
+def _lstsq(S, m, rl, lam):
+    """rl <- minimum-norm least-squares solution of S x = rl (S: lower triangle filled in
+    full here); lam is scratch. Allocates (compiled with reference counting)."""
+    # Symmetric Jacobi scaling D S D, D = diag(S)^-1/2, before least squares: rows of
+    # very different physical scale (light links, small inertias) otherwise cost ~1e-9
+    # relative accuracy, and the rank cut rcond would act on units, not on dependence.
+    # lam serves as scratch for D (it is filled from rl afterwards).
+    for a in range(m):
+        lam[a] = 1.0 / math.sqrt(S[a, a]) if S[a, a] > 0.0 else 0.0
+    for a in range(m):
+        for c in range(a + 1):
+            S[a, c] *= lam[a] * lam[c]
+            S[c, a] = S[a, c]
+        rl[a] *= lam[a]
+    Ss = S  # (m, m)
+    b = rl[:m].copy()
+    sol = np.linalg.lstsq(Ss, b, 1e-10)[0]
+    # one step of iterative refinement: the SVD solve is ~10x less accurate than the
+    # Cholesky one, and light bodies amplify multiplier errors in v_dot
+    res = b - Ss @ sol
+    sol += np.linalg.lstsq(Ss, res, 1e-10)[0]
+    for a in range(m):
+        rl[a] = sol[a] * lam[a]
+
+
+@njit(cache=True, error_model="numpy", _nrt=True)
 def _solve_dense(model, Jb, J, gB, Q, lam, vd):
     """Dense augmented LU (the fallback and validator)."""
     nb = model.nb

@@ -47,7 +47,7 @@ ST_NFEV, ST_NACC, ST_NREJ, ST_NPROJ, ST_HMIN, ST_HMAX, ST_HLAST, ST_NEVT = 0, 1,
 NSTATS = 8
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _correction(model, wk, err, solver):
     """wk.vd <- -M^-1 J^T (J M^-1 J^T)^-1 err: the kinetic-energy-closest change that removes
     the (linearised) violation err; the constrained solve with Q = 0 and gamma_B = -err."""
@@ -100,7 +100,7 @@ def project(model, wk, t, y, solver, tol, maxit):
     return 0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def normalise_quaternions(model, y, k):
     """p <- p/|p| for every body (physics.md b.2), scaling the p-rows of the derivative k by
     the same factor: p_dot = (1/2) p (x) (0, omega') is linear in p, so (y, k) stay an exact
@@ -114,7 +114,7 @@ def normalise_quaternions(model, y, k):
                 k[q + i] /= n
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _err_norm(e, y, ynew, n, rtol, atol):
     s = 0.0
     for i in range(n):
@@ -123,7 +123,7 @@ def _err_norm(e, y, ynew, n, rtol, atol):
     return math.sqrt(s / n)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _finite(y):
     for i in range(y.shape[0]):
         if not np.isfinite(y[i]):
@@ -272,7 +272,7 @@ def dopri5(
             # contact events inside the step: cut the step at the earliest one
             xev = 2.0
             if model.nclr > 0:
-                xev, _ = locate_event(model, wk, t, y, K, h, ytmp)
+                xev, _ = locate_event(model, wk, t, y, K, h)
             if xev <= 1.0:
                 interpolate(y, K, h, xev, ynew)
                 tnew = t + xev * h
@@ -327,7 +327,7 @@ def dopri5(
     return 0, iout, t, nlog
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _record(wk, CS, iout):
     for k in range(wk.cflag.shape[0]):
         CS[iout, k, 0] = wk.cflag[k]
