@@ -1,6 +1,6 @@
 """Study throughput: the same small study on a LocalCluster of 1 and of 2 workers.
 
-The study is the shipped example (`clearance/data/study_example.toml`: 4UPS-UPU, radial
+The study is the shipped example (`clearance/data/studies/example.toml`: 4UPS-UPU, radial
 clearance x LuGre mu_c), widened to --cases cases (clearances between 0.1 and 0.5 mm x mu_c
 0.05 / 0.15) and shortened to --duration simulated seconds. For each cluster size:
 

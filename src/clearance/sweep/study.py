@@ -226,15 +226,17 @@ def _flatten(t: Mapping, prefix: str = "") -> dict[str, object]:
 
 
 def _shipped() -> tuple[str, ...]:
-    """Shipped scenario names (the data folder also holds example studies: study_*)."""
-    return tuple(n for n in default_scenarios() if not n.startswith("study"))
+    """Shipped scenario names (studies live apart, in clearance/data/studies/)."""
+    return tuple(default_scenarios())
 
 
 def example_study_path() -> Path:
-    """Path of the shipped example study (clearance/data/study_example.toml)."""
-    from clearance.scenario.toml_io import default_scenario_path
+    """Path of the shipped example study (clearance/data/studies/example.toml)."""
+    import importlib.resources
 
-    return default_scenario_path("study_example")
+    return Path(
+        os.fspath(importlib.resources.files("clearance") / "data" / "studies" / "example.toml")
+    )
 
 
 def _resolve_base(base: object, root: Path | None, problems: Problems) -> tuple[dict, str] | None:
