@@ -72,6 +72,15 @@ class Model(NamedTuple):
     row_bj: np.ndarray  # (nrow,) body of J columns 6:12
     row_drv: np.ndarray  # (nrow,) 1 if the row belongs to a driver
     row_pos: np.ndarray  # (nrow,) position of row r in the Schur factor order
+    # Structure of S = J M^-1 J^T in factor order, fixed at compile time. Index arrays are
+    # uint32: numba then knows they are not negative and drops its wraparound code (~30 %
+    # of the assembly time).
+    sch_first: np.ndarray  # (nrow,) uint32 first structural non-zero column of each row: the
+    # envelope, which contains the Cholesky fill
+    sch_colptr: np.ndarray  # (nrow+1,) rows i > j of the envelope column j: CSR pointers
+    sch_colidx: np.ndarray  # uint32 row indices
+    sch_pair: np.ndarray  # (npair, 3) uint32 assembly terms (a, c, s) in flat indices of J, JM
+    # (m*12) and S (m*m): S.flat[s] += J.flat[a:a+6] . JM.flat[c:c+6], body by body
     brow_ptr: np.ndarray  # (nb+1,) rows touching each body: CSR pointers
     brow_idx: np.ndarray  # row indices
     brow_slot: np.ndarray  # 0: body is i of the row (cols 0:6), 1: body is j (cols 6:12)
@@ -546,6 +555,33 @@ def _factor_order(nrow: int, lists: list) -> np.ndarray:
     return pos
 
 
+def _schur_structure(nrow: int, lists: list, pos: np.ndarray) -> dict:
+    """Model.sch_* arrays: the envelope of S = J M^-1 J^T in factor order, its columns, and
+    the assembly terms (one per pair of rows sharing a body, in the order the kernel
+    accumulates them), so the run-time assembly and factorisation do no index searching.
+    Rows sharing no body are structural zeros; the envelope contains the Cholesky fill."""
+    first = np.arange(nrow, dtype=np.int64)
+    pairs = []
+    for rows in lists:
+        for a in range(len(rows)):
+            ra, sa = rows[a]
+            for c in range(a + 1):
+                rc, sc = rows[c]
+                pa, pc = pos[ra], pos[rc]
+                hi, lo = (pa, pc) if pa >= pc else (pc, pa)
+                pairs.append((12 * ra + 6 * sa, 12 * rc + 6 * sc, nrow * hi + lo))
+                first[hi] = min(first[hi], lo)
+    cols = [[i for i in range(j + 1, nrow) if first[i] <= j] for j in range(nrow)]
+    colptr = np.zeros(nrow + 1, dtype=np.int64)
+    colptr[1:] = np.cumsum([len(c) for c in cols])
+    return dict(
+        sch_first=first.astype(np.uint32),
+        sch_colptr=colptr,
+        sch_colidx=np.array([i for c in cols for i in c], dtype=np.uint32),
+        sch_pair=np.array(pairs, dtype=np.uint32).reshape(len(pairs), 3),
+    )
+
+
 def compile_mechanism(mech: Mechanism) -> Compiled:
     """Validate and compile a mechanism into kernel arrays (the input is not modified)."""
     mech.validate()
@@ -620,6 +656,7 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
     ).reshape(len(bodies), 5)
     fn_kind, fn_ptr, fn_data = encode_functions(b.funcs)
     row_pos = _factor_order(b.nrow, lists)
+    schur = _schur_structure(b.nrow, lists, row_pos)
     body_J = np.array([bd.inertia_matrix for bd in bodies]).reshape(nb, 3, 3)
     model = Model(
         nb=nb,
@@ -642,6 +679,7 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         row_bj=row_bj,
         row_drv=np.array(b.row_drv, dtype=np.int64),
         row_pos=row_pos,
+        **schur,
         brow_ptr=brow_ptr,
         brow_idx=brow_idx,
         brow_slot=brow_slot,

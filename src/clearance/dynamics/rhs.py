@@ -45,7 +45,6 @@ class Work(NamedTuple):
     J: np.ndarray  # (m, 12)
     JM: np.ndarray  # (m, 12)
     S: np.ndarray  # (m, m)
-    first: np.ndarray  # (m,) int
     rl: np.ndarray  # (m,)
     lam: np.ndarray  # (m,)
     Q: np.ndarray  # (nb, 6)
@@ -77,7 +76,6 @@ def make_work(model) -> Work:
         J=np.zeros((m, 12)),
         JM=np.zeros((m, 12)),
         S=np.zeros((m, m)),
-        first=np.zeros(m, dtype=np.int64),
         rl=np.zeros(m),
         lam=np.zeros(m),
         Q=np.zeros((nb, 6)),

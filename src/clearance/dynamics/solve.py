@@ -6,7 +6,8 @@
 SCHUR (default): S = phi_q M^-1 phi_q^T assembled body by body from the row-block Jacobian
 (each row touches at most two bodies), factorised by an envelope Cholesky in a
 bandwidth-reducing row order chosen at compile time (reverse Cuthill-McKee); only the
-envelope is touched, so the cost follows the mechanism's sparsity, not m^3.
+envelope is touched, so the cost follows the mechanism's sparsity, not m^3. The envelope
+and the list of assembly terms are computed at compile time (Model.sch_first, sch_pair).
 DENSE: the full augmented matrix with LU (np.linalg.solve): the checked fallback.
 LSTSQ: minimum-norm multipliers from S by least squares, for redundant but consistent
 constraint sets (physics.md c.5): v_dot is unique, lam is not.
@@ -59,63 +60,55 @@ def _minv_blocks(model, Jinv, J, JM, Q, MiQ):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def assemble_schur(model, J, JM, S):
-    """Lower triangle of S = J M^-1 J^T in factor order (row r at position row_pos[r])."""
+def assemble_schur(model, J, JM, S, full):
+    """Lower triangle of S = J M^-1 J^T in factor order (row r at position row_pos[r]).
+
+    Only the envelope (model.sch_first) is cleared, or the whole triangle if full (least
+    squares reads it all); the terms are the compile-time list model.sch_pair."""
     m = model.nrow
-    pos = model.row_pos
+    first = model.sch_first
     for a in range(m):
-        for c in range(a + 1):
+        for c in range(0 if full else first[a], a + 1):
             S[a, c] = 0.0
-    for b in range(model.nb):
-        p0 = model.brow_ptr[b]
-        p1 = model.brow_ptr[b + 1]
-        for a in range(p0, p1):
-            ra = model.brow_idx[a]
-            oa = 6 * model.brow_slot[a]
-            pa = pos[ra]
-            for c in range(p0, a + 1):
-                rc = model.brow_idx[c]
-                oc = 6 * model.brow_slot[c]
-                pc = pos[rc]
-                v = 0.0
-                for k in range(6):
-                    v += J[ra, oa + k] * JM[rc, oc + k]
-                if pa >= pc:
-                    S[pa, pc] += v
-                else:
-                    S[pc, pa] += v
+    Jf = J.reshape(-1)
+    JMf = JM.reshape(-1)
+    Sf = S.reshape(-1)
+    pr = model.sch_pair
+    for q in range(pr.shape[0]):
+        ja = pr[q, 0]
+        jc = pr[q, 1]
+        v = 0.0
+        for k in range(6):
+            v += Jf[ja + k] * JMf[jc + k]
+        Sf[pr[q, 2]] += v
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def envelope_cholesky(S, m, first):
-    """In-place lower Cholesky of the envelope of S (first[i] = first non-zero column).
+def envelope_cholesky(S, m, first, colptr, colidx):
+    """In-place lower Cholesky of the envelope of S (first[i] = first non-zero column of row
+    i; colidx[colptr[j]:colptr[j+1]] = rows i > j with first[i] <= j). Only the envelope is
+    touched, and fill-in stays inside it. Column by column: the entries of a column are
+    independent, which keeps the processor busy (row by row, each entry waits for the one
+    before it).
 
     Returns False if a pivot is not positive relative to its diagonal (singular or
-    redundant constraints). Fill-in stays inside the envelope, so only it is touched.
+    redundant constraints).
     """
-    for i in range(m):
-        f = i
-        for c in range(i):
-            if S[i, c] != 0.0:
-                f = c
-                break
-        first[i] = f
     for j in range(m):
+        fj = first[j]
         d0 = S[j, j]
         s = d0
-        for k in range(first[j], j):
+        for k in range(fj, j):
             s -= S[j, k] * S[j, k]
         if not (s > 1e-12 * abs(d0)) or d0 == 0.0:
             return False
         ljj = math.sqrt(s)
         S[j, j] = ljj
-        for i in range(j + 1, m):
+        for a in range(colptr[j], colptr[j + 1]):
+            i = colidx[a]
             fi = first[i]
-            if fi > j:
-                continue
             s = S[i, j]
-            k0 = fi if fi > first[j] else first[j]
-            for k in range(k0, j):
+            for k in range(fi if fi > fj else fj, j):
                 s -= S[i, k] * S[j, k]
             S[i, j] = s / ljj
     return True
@@ -150,7 +143,6 @@ def solve_constrained(model, wk, solver):
         solver,
         wk.JM,
         wk.S,
-        wk.first,
         wk.rl,
         wk.lam,
         wk.MiQ,
@@ -159,7 +151,7 @@ def solve_constrained(model, wk, solver):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
+def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, rl, lam, MiQ, vd):
     """Solve the augmented system for v_dot (vd, (nb, 6)) and lam; return 0 or 1 (singular)."""
     m = model.nrow
     nb = model.nb
@@ -181,11 +173,11 @@ def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, first, rl, lam, MiQ, vd):
                 for k in range(6):
                     s += J[r, o + k] * MiQ[b, k]
         rl[model.row_pos[r]] = s
-    assemble_schur(model, J, JM, S)
+    assemble_schur(model, J, JM, S, solver != 0)
     if solver == 0:
-        if not envelope_cholesky(S, m, first):
+        if not envelope_cholesky(S, m, model.sch_first, model.sch_colptr, model.sch_colidx):
             return 1
-        envelope_solve(S, m, first, rl)
+        envelope_solve(S, m, model.sch_first, rl)
     else:
         _lstsq(S, m, rl, lam)
     for r in range(m):
