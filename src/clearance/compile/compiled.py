@@ -28,6 +28,7 @@ from clearance.constraints.primitives import (
     AX_J,
     NPV,
     PRIM_ROWS,
+    ROTATION_ONLY,
     SB_I,
     SB_J,
     PrimKind,
@@ -80,7 +81,12 @@ class Model(NamedTuple):
     sch_colptr: np.ndarray  # (nrow+1,) rows i > j of the envelope column j: CSR pointers
     sch_colidx: np.ndarray  # uint32 row indices
     sch_pair: np.ndarray  # (npair, 3) uint32 assembly terms (a, c, s) in flat indices of J, JM
-    # (m*12) and S (m*m): S.flat[s] += J.flat[a:a+6] . JM.flat[c:c+6], body by body
+    # (m*12) and S (m*m): S.flat[s] (+)= J.flat[a:a+n] . JM.flat[c:c+n], in four groups
+    sch_grp: np.ndarray  # (5,) group bounds in sch_pair: first term of an entry with n = 3
+    # (a rotation-only row: its translational products vanish) and n = 6, then second terms
+    # (added) with n = 3 and n = 6. An entry gets at most two terms (two rows share at most
+    # two bodies), and a + b = b + a, so this order gives the bits of any other.
+    sch_fill: np.ndarray  # uint32 flat indices of envelope entries without a term (fill)
     brow_ptr: np.ndarray  # (nb+1,) rows touching each body: CSR pointers
     brow_idx: np.ndarray  # row indices
     brow_slot: np.ndarray  # 0: body is i of the row (cols 0:6), 1: body is j (cols 6:12)
@@ -555,13 +561,15 @@ def _factor_order(nrow: int, lists: list) -> np.ndarray:
     return pos
 
 
-def _schur_structure(nrow: int, lists: list, pos: np.ndarray) -> dict:
+def _schur_structure(nrow: int, lists: list, pos: np.ndarray, rot_only: np.ndarray) -> dict:
     """Model.sch_* arrays: the envelope of S = J M^-1 J^T in factor order, its columns, and
-    the assembly terms (one per pair of rows sharing a body, in the order the kernel
-    accumulates them), so the run-time assembly and factorisation do no index searching.
-    Rows sharing no body are structural zeros; the envelope contains the Cholesky fill."""
+    the assembly terms (one per pair of rows sharing a body), grouped so that the run-time
+    assembly does no index searching, no clearing of assembled entries and no products
+    with structural zeros. Rows sharing no body are structural zeros; the envelope
+    contains the Cholesky fill. rot_only[r]: row r has no translational Jacobian columns."""
     first = np.arange(nrow, dtype=np.int64)
-    pairs = []
+    groups: list[list] = [[], [], [], []]
+    seen = set()
     for rows in lists:
         for a in range(len(rows)):
             ra, sa = rows[a]
@@ -569,16 +577,25 @@ def _schur_structure(nrow: int, lists: list, pos: np.ndarray) -> dict:
                 rc, sc = rows[c]
                 pa, pc = pos[ra], pos[rc]
                 hi, lo = (pa, pc) if pa >= pc else (pc, pa)
-                pairs.append((12 * ra + 6 * sa, 12 * rc + 6 * sc, nrow * hi + lo))
+                dst = nrow * hi + lo
+                short = bool(rot_only[ra] or rot_only[rc])
+                off = 3 if short else 0  # skip the translational products
+                g = (2 if dst in seen else 0) + (0 if short else 1)
+                seen.add(dst)
+                groups[g].append((12 * ra + 6 * sa + off, 12 * rc + 6 * sc + off, dst))
                 first[hi] = min(first[hi], lo)
     cols = [[i for i in range(j + 1, nrow) if first[i] <= j] for j in range(nrow)]
     colptr = np.zeros(nrow + 1, dtype=np.int64)
     colptr[1:] = np.cumsum([len(c) for c in cols])
+    fill = [nrow * p + c for p in range(nrow) for c in range(first[p], p + 1)]
+    pairs = [t for g in groups for t in g]
     return dict(
         sch_first=first.astype(np.uint32),
         sch_colptr=colptr,
         sch_colidx=np.array([i for c in cols for i in c], dtype=np.uint32),
         sch_pair=np.array(pairs, dtype=np.uint32).reshape(len(pairs), 3),
+        sch_grp=np.concatenate([[0], np.cumsum([len(g) for g in groups])]).astype(np.int64),
+        sch_fill=np.array([d for d in fill if d not in seen], dtype=np.uint32),
     )
 
 
@@ -656,7 +673,11 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
     ).reshape(len(bodies), 5)
     fn_kind, fn_ptr, fn_data = encode_functions(b.funcs)
     row_pos = _factor_order(b.nrow, lists)
-    schur = _schur_structure(b.nrow, lists, row_pos)
+    rot_only = np.zeros(b.nrow, dtype=bool)
+    for k in range(npr):
+        if PrimKind(prim_kind[k]) in ROTATION_ONLY:
+            rot_only[prim_row[k] : prim_row[k] + PRIM_ROWS[PrimKind(prim_kind[k])]] = True
+    schur = _schur_structure(b.nrow, lists, row_pos, rot_only)
     body_J = np.array([bd.inertia_matrix for bd in bodies]).reshape(nb, 3, 3)
     model = Model(
         nb=nb,

@@ -46,6 +46,11 @@ PRIM_ROWS = {
     PrimKind.DOT1_MOVING: 1,
 }
 
+# Primitives whose Jacobian rows have no translational columns (J[r, 0:3] = J[r, 6:9] = 0):
+# the Schur assembly skips those terms (compile.compiled._schur_structure). Keep in step
+# with eval_primitives.
+ROTATION_ONLY = frozenset({PrimKind.DOT1, PrimKind.DOT1_MOVING})
+
 # prim_v slots (body components of the owning body; world components for the ground)
 SB_I, SB_J, AB_I, AB_J, AX_I, AX_J = 0, 1, 2, 3, 4, 5
 NPV = 6

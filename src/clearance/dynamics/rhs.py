@@ -24,7 +24,7 @@ from numba import njit
 from clearance.constraints.primitives import eval_primitives
 from clearance.contact.joint import NCOUT, clearance_forces
 from clearance.dynamics.forces import applied_forces
-from clearance.dynamics.solve import solve_constrained
+from clearance.dynamics.solve import nn, solve_constrained
 from clearance.kinematics.rotations import quat_rate, quat_to_rot
 from clearance.kinematics.timefn import eval_all
 
@@ -149,7 +149,7 @@ def constraint_rows(model, t, y, wk):
             b = model.row_bi[r] if side == 0 else model.row_bj[r]
             if b >= 0:
                 for k in range(6):
-                    s += wk.J[r, 6 * side + k] * y[off + 6 * b + k]
+                    s += wk.J[r, nn(6 * side + k)] * y[nn(off + 6 * b + k)]
         wk.phid[r] = s
 
 
@@ -173,8 +173,8 @@ def rhs(t, y, model, wk, alpha, beta, solver, ydot):
     status = solve_constrained(model, wk, solver)
     off = 7 * nb
     for b in range(nb):
-        q = 7 * b
-        v = off + 6 * b
+        q = nn(7 * b)
+        v = nn(off + 6 * b)
         ydot[q] = y[v]
         ydot[q + 1] = y[v + 1]
         ydot[q + 2] = y[v + 2]

@@ -75,24 +75,41 @@ def _minv_blocks(model, Jinv, J, JM, Q, MiQ):
 def assemble_schur(model, J, JM, S, full):
     """Lower triangle of S = J M^-1 J^T in factor order (row r at position row_pos[r]).
 
-    Only the envelope (model.sch_first) is cleared, or the whole triangle if full (least
-    squares reads it all); the terms are the compile-time list model.sch_pair."""
+    Runs over the compile-time term list (Model.sch_pair, sch_grp): first terms set an entry,
+    second terms add to it, fill entries of the envelope are cleared. full: clear the whole
+    triangle first (least squares reads it all)."""
     m = model.nrow
-    first = model.sch_first
-    for a in range(m):
-        for c in range(0 if full else first[a], a + 1):
-            S[a, c] = 0.0
+    if full:
+        for a in range(m):
+            for c in range(a + 1):
+                S[a, c] = 0.0
     Jf = J.reshape(-1)
     JMf = JM.reshape(-1)
     Sf = S.reshape(-1)
+    fill = model.sch_fill
+    for q in range(fill.shape[0]):
+        Sf[fill[q]] = 0.0
+    g = model.sch_grp
     pr = model.sch_pair
-    for q in range(pr.shape[0]):
+    _terms(Jf, JMf, Sf, pr, g[0], g[1], 3, False)
+    _terms(Jf, JMf, Sf, pr, g[1], g[2], 6, False)
+    _terms(Jf, JMf, Sf, pr, g[2], g[3], 3, True)
+    _terms(Jf, JMf, Sf, pr, g[3], g[4], 6, True)
+
+
+@njit(cache=True, inline="always", error_model="numpy", _nrt=False)
+def _terms(Jf, JMf, Sf, pr, q0, q1, n, add):
+    """Assembly terms q0:q1 of pr, each a dot product of length n (see assemble_schur)."""
+    for q in range(q0, q1):
         ja = pr[q, 0]
         jc = pr[q, 1]
         v = 0.0
-        for k in range(6):
+        for k in range(n):
             v += Jf[ja + k] * JMf[jc + k]
-        Sf[pr[q, 2]] += v
+        if add:
+            Sf[pr[q, 2]] += v
+        else:
+            Sf[pr[q, 2]] = v
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
