@@ -184,19 +184,30 @@ def eval_primitives(model, bA, br, brd, bw, fval, phi, phit, gam, J):
         )
         si = matvec(Ai, sbi)
         sj = matvec(Aj, sbj)
-        ui = matvec(Ai, ui_b)  # A sb_dot: velocity of the point relative to its body
-        uj = matvec(Aj, uj_b)
         d = sub(add((br[j, 0], br[j, 1], br[j, 2]), sj), add((br[i, 0], br[i, 1], br[i, 2]), si))
-        dd = sub(
-            add((brd[j, 0], brd[j, 1], brd[j, 2]), add(cross(wj, sj), uj)),
-            add((brd[i, 0], brd[i, 1], brd[i, 2]), add(cross(wi, si), ui)),
-        )
-        du = sub(uj, ui)  # explicit-time part of d_dot
-        # velocity-quadratic and explicit-time part of d_ddot: w x (w x s) + 2 w x u + A sb_ddot
-        acc = sub(
-            add(ww(wj, sj), add(scale(2.0, cross(wj, uj)), matvec(Aj, aj_b))),
-            add(ww(wi, si), add(scale(2.0, cross(wi, ui)), matvec(Ai, ai_b))),
-        )
+        if model.prim_mv[k, 0] >= 0 or model.prim_mv[k, 1] >= 0:
+            ui = matvec(Ai, ui_b)  # A sb_dot: velocity of the point relative to its body
+            uj = matvec(Aj, uj_b)
+            dd = sub(
+                add((brd[j, 0], brd[j, 1], brd[j, 2]), add(cross(wj, sj), uj)),
+                add((brd[i, 0], brd[i, 1], brd[i, 2]), add(cross(wi, si), ui)),
+            )
+            du = sub(uj, ui)  # explicit-time part of d_dot
+            # velocity-quadratic and explicit-time part of d_ddot:
+            # w x (w x s) + 2 w x u + A sb_ddot
+            acc = sub(
+                add(ww(wj, sj), add(scale(2.0, cross(wj, uj)), matvec(Aj, aj_b))),
+                add(ww(wi, si), add(scale(2.0, cross(wi, ui)), matvec(Ai, ai_b))),
+            )
+        else:
+            # fixed points (the common case): the same values without the vanishing u and
+            # A sb_ddot terms (adding zeros), about a third of the flops of a point primitive
+            dd = sub(
+                add((brd[j, 0], brd[j, 1], brd[j, 2]), cross(wj, sj)),
+                add((brd[i, 0], brd[i, 1], brd[i, 2]), cross(wi, si)),
+            )
+            du = (0.0, 0.0, 0.0)
+            acc = sub(ww(wj, sj), ww(wi, si))
         if kind == PrimKind.SPHERICAL:
             for a in range(3):
                 ra = r + a
