@@ -45,6 +45,7 @@ class Work(NamedTuple):
     J: np.ndarray  # (m, 12)
     JM: np.ndarray  # (m, 12)
     S: np.ndarray  # (m, m)
+    dinv: np.ndarray  # (m,) 1 / diag of the Cholesky factor
     rl: np.ndarray  # (m,)
     lam: np.ndarray  # (m,)
     Q: np.ndarray  # (nb, 6)
@@ -76,6 +77,7 @@ def make_work(model) -> Work:
         J=np.zeros((m, 12)),
         JM=np.zeros((m, 12)),
         S=np.zeros((m, m)),
+        dinv=np.zeros(m),
         rl=np.zeros(m),
         lam=np.zeros(m),
         Q=np.zeros((nb, 6)),

@@ -113,15 +113,15 @@ def _terms(Jf, JMf, Sf, pr, q0, q1, n, add):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def envelope_cholesky(S, m, first, colptr, colidx):
+def envelope_cholesky(S, m, first, colptr, colidx, dinv):
     """In-place lower Cholesky of the envelope of S (first[i] = first non-zero column of row
     i; colidx[colptr[j]:colptr[j+1]] = rows i > j with first[i] <= j). Only the envelope is
     touched, and fill-in stays inside it. Column by column: the entries of a column are
     independent, which keeps the processor busy (row by row, each entry waits for the one
     before it).
 
-    Returns False if a pivot is not positive relative to its diagonal (singular or
-    redundant constraints).
+    dinv[j] = 1 / L[j, j] for the triangular solves. Returns False if a pivot is not positive
+    relative to its diagonal (singular or redundant constraints).
     """
     for j in range(m):
         fj = first[j]
@@ -133,6 +133,7 @@ def envelope_cholesky(S, m, first, colptr, colidx):
             return False
         ljj = math.sqrt(s)
         S[j, j] = ljj
+        dinv[j] = 1.0 / ljj
         for a in range(colptr[j], colptr[j + 1]):
             i = colidx[a]
             fi = first[i]
@@ -144,16 +145,20 @@ def envelope_cholesky(S, m, first, colptr, colidx):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def envelope_solve(L, m, first, x):
-    """Solve L L^T x = b in place (x holds b on entry)."""
+def envelope_solve(L, m, first, dinv, x):
+    """Solve L L^T x = b in place (x holds b on entry); dinv = 1 / diag(L).
+
+    Each unknown waits for the one before it, so the solves are latency-bound: multiplying
+    by the reciprocal instead of dividing shortens that chain (0.9 -> 0.65 us; the result
+    changes in the last bit)."""
     for i in range(m):
         s = x[i]
         for k in range(first[i], i):
             s -= L[i, nn(k)] * x[nn(k)]
-        x[i] = s / L[i, i]
+        x[i] = s * dinv[i]
     for i in range(m - 1, -1, -1):
-        x[i] /= L[i, i]
-        xi = x[i]
+        xi = x[i] * dinv[i]
+        x[i] = xi
         for k in range(first[i], i):
             x[nn(k)] -= L[i, nn(k)] * xi
 
@@ -172,6 +177,7 @@ def solve_constrained(model, wk, solver):
         solver,
         wk.JM,
         wk.S,
+        wk.dinv,
         wk.rl,
         wk.lam,
         wk.MiQ,
@@ -180,7 +186,7 @@ def solve_constrained(model, wk, solver):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, rl, lam, MiQ, vd):
+def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, dinv, rl, lam, MiQ, vd):
     """Solve the augmented system for v_dot (vd, (nb, 6)) and lam; return 0 or 1 (singular)."""
     m = model.nrow
     nb = model.nb
@@ -204,9 +210,9 @@ def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, rl, lam, MiQ, vd):
         rl[nn(model.row_pos[r])] = s
     assemble_schur(model, J, JM, S, solver != 0)
     if solver == 0:
-        if not envelope_cholesky(S, m, model.sch_first, model.sch_colptr, model.sch_colidx):
+        if not envelope_cholesky(S, m, model.sch_first, model.sch_colptr, model.sch_colidx, dinv):
             return 1
-        envelope_solve(S, m, model.sch_first, rl)
+        envelope_solve(S, m, model.sch_first, dinv, rl)
     else:
         _lstsq(S, m, rl, lam)
     for r in range(m):
