@@ -10,9 +10,12 @@ from clearance.compile.compiled import NWORK
 
 def _pendulum():
     m = cl.Mechanism("p")
-    m.add(cl.Body("rod", 2.0, (0.1, 0.1, 0.01), position=(0.5, 0, 0)),
-          cl.Marker("g", "ground"), cl.Marker("a", "rod", (-0.5, 0, 0)),
-          cl.Spherical("s", "g", "a"))
+    m.add(
+        cl.Body("rod", 2.0, (0.1, 0.1, 0.01), position=(0.5, 0, 0)),
+        cl.Marker("g", "ground"),
+        cl.Marker("a", "rod", (-0.5, 0, 0)),
+        cl.Spherical("s", "g", "a"),
+    )
     return m
 
 
@@ -27,8 +30,11 @@ def _pendulum():
         (lambda: cl.Body("b", 1.0, orientation=(1, 1, 0, 0)), "orientation", "unit"),
         (lambda: cl.Body("ground", 1.0), "name", "reserved"),
         (lambda: cl.Marker("m", "b", orientation=np.diag([1, 1, 2])), "orientation", "orthonormal"),
-        (lambda: cl.Marker("m", "b", orientation=np.diag([1, 1, -1])), "orientation",
-         "right-handed"),
+        (
+            lambda: cl.Marker("m", "b", orientation=np.diag([1, 1, -1])),
+            "orientation",
+            "right-handed",
+        ),
         (lambda: cl.Marker("m", "b", position=(0, 0)), "position", "3"),
         (lambda: cl.OrientationDriver("o", "m", (0, 0, 0), sequence="xyw"), "sequence", "xyw"),
         (lambda: cl.OrientationDriver("o", "m", (0, 0, 0), mode="half"), "mode", "half"),

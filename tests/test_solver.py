@@ -12,13 +12,17 @@ def _door(redundant: bool):
     5 independent constraints) or by one."""
     m = cl.Mechanism("door", gravity=(0, 0, -9.81))
     m.add(cl.Body("door", 20.0, (1.5, 1.2, 0.3), position=(0.4, 0, 0.0)))
-    m.add(cl.Marker.on_axis("g1", "ground", (0, 0, 0.5), axis=(0, 0, 1)),
-          cl.Marker.on_axis("d1", "door", (-0.4, 0, 0.5), axis=(0, 0, 1)),
-          cl.Revolute("hinge_top", "g1", "d1"))
+    m.add(
+        cl.Marker.on_axis("g1", "ground", (0, 0, 0.5), axis=(0, 0, 1)),
+        cl.Marker.on_axis("d1", "door", (-0.4, 0, 0.5), axis=(0, 0, 1)),
+        cl.Revolute("hinge_top", "g1", "d1"),
+    )
     if redundant:
-        m.add(cl.Marker.on_axis("g2", "ground", (0, 0, -0.5), axis=(0, 0, 1)),
-              cl.Marker.on_axis("d2", "door", (-0.4, 0, -0.5), axis=(0, 0, 1)),
-              cl.Revolute("hinge_bottom", "g2", "d2"))
+        m.add(
+            cl.Marker.on_axis("g2", "ground", (0, 0, -0.5), axis=(0, 0, 1)),
+            cl.Marker.on_axis("d2", "door", (-0.4, 0, -0.5), axis=(0, 0, 1)),
+            cl.Revolute("hinge_bottom", "g2", "d2"),
+        )
     # tilt gravity so that the door swings: gravity along -x in the hinge frame
     m.gravity = (-1.0, 0.5, -9.81)
     return m
