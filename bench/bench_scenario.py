@@ -1,0 +1,298 @@
+"""Scenario benchmark: the default 4UPS-UPU clearance scenario, compiled engine vs plain NumPy.
+
+Model: the shipped default scenario (`clearance.scenario.default_scenario_path()`): 4UPS-UPU,
+11 moving bodies, 66 velocity coordinates, 60 constraint rows, two spherical clearance
+joints (Flores contact, LuGre friction), drives from the inverse kinematics of the platform
+trajectory, 2 s, the scenario's solver settings (DOPRI5, rtol 1e-6, atol 1e-9).
+
+Measured in one run, each as the median of repeats with `time.perf_counter`, and reported as
+RATIOS against the plain-NumPy implementation of the same model
+(`clearance.dynamics.reference_contact`: the clearance force element and the constraint
+machinery of `reference.py`, dense augmented LU):
+
+* per right-hand side, on a state in contact taken from the run: the compiled kernel in an
+  @njit loop and from Python, the `scipy_rhs` wrapper, the NumPy `reference_rhs_clearance`;
+* whole run: the own compiled DOPRI5 (`clearance.simulate`: the whole call, and the
+  integration loop alone), and SciPy `solve_ivp` RK45 with the NumPy right-hand side (the
+  contact state latched on accepted steps). A full baseline run would take hours, so it
+  integrates a short interval that includes the first impacts and is scaled to the full
+  duration; the output says so, and also gives a second estimate (the own run's RHS count
+  times the NumPy per-RHS time).
+
+Numba is warmed up first; compile (or cache-load) time is reported separately.
+Run: `taskset -c 0 python bench/bench_scenario.py` (see bench/README.md).
+"""
+
+from __future__ import annotations
+
+import os
+
+# One thread everywhere (must precede the numpy import); an explicit setting wins.
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import argparse  # noqa: E402
+import platform  # noqa: E402
+import statistics  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from collections.abc import Callable  # noqa: E402
+
+import numba  # noqa: E402
+import numpy as np  # noqa: E402
+import scipy  # noqa: E402
+
+import clearance as cl  # noqa: E402
+from clearance.dynamics.reference_contact import (  # noqa: E402
+    reference_rhs_clearance,
+    solve_ivp_clearance,
+)
+from clearance.dynamics.rhs import make_work, rhs  # noqa: E402
+from clearance.kinematics.ik import apply_drives, drives_from_ik, inverse_kinematics  # noqa: E402
+from clearance.scenario import (  # noqa: E402
+    build_mechanisms,
+    default_scenario_path,
+    load_scenario,
+)
+
+
+@numba.njit(cache=True)
+def _rhs_loop(n, t, y, model, wk, alpha, beta, solver, out):  # pragma: no cover - compiled
+    """Call the kernel n times from compiled code: its cost without Python dispatch."""
+    s = 0
+    for _ in range(n):
+        s += rhs(t, y, model, wk, alpha, beta, solver, out)
+    return s
+
+
+def median_time(fn: Callable[[], object], repeats: int, n_inner: int = 1) -> tuple[float, float]:
+    """(median, best) wall time [s] of one `fn()` call; each of `repeats` samples is the
+    mean over a loop of `n_inner` calls."""
+    samples = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        for _ in range(n_inner):
+            fn()
+        samples.append((time.perf_counter() - t0) / n_inner)
+    return statistics.median(samples), min(samples)
+
+
+def fmt_time(s: float) -> str:
+    if s < 1e-3:
+        return f"{s * 1e6:9.1f} us"
+    if s < 1.0:
+        return f"{s * 1e3:9.2f} ms"
+    return f"{s:9.3f} s "
+
+
+def build():
+    """The default scenario's clearance mechanism with drives from the inverse kinematics."""
+    s = load_scenario(default_scenario_path())
+    ideal, clr, info = build_mechanisms(s)
+    ik = inverse_kinematics(
+        ideal,
+        info.platform_trajectory(),
+        platform_marker=info.platform_marker,
+        actuators=info.actuators,
+        times=np.linspace(0.0, info.t_end, 101),
+    )
+    return apply_drives(clr, drives_from_ik(ik)), info
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=5, help="repeats for medians (default 5)")
+    ap.add_argument(
+        "--baseline-interval",
+        type=float,
+        default=0.03,
+        help="simulated time of the NumPy/solve_ivp run [s] (default 0.03: the first impacts)",
+    )
+    ap.add_argument(
+        "--baseline-repeats", type=int, default=1, help="repeats of the baseline run (default 1)"
+    )
+    args = ap.parse_args(argv)
+    reps = args.repeats
+
+    print("clearance scenario benchmark: default 4UPS-UPU scenario with two clearance joints")
+    aff = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else "?"
+    print(
+        f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
+        f"numba {numba.__version__}; CPU affinity {aff}; "
+        f"NUMBA_NUM_THREADS={os.environ.get('NUMBA_NUM_THREADS')}, "
+        f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}"
+    )
+    if aff != "?" and len(aff) > 1:
+        print("note: not pinned to one core; use `taskset -c 0` for stable numbers")
+
+    # ------------------------------------------------------------ build, compile, warm up
+    t0 = time.perf_counter()
+    mech, info = build()
+    c = cl.compile_mechanism(mech)
+    t_build = time.perf_counter() - t0
+    kw = dict(info.simulate_kwargs)
+    t_end = float(info.t_end)
+    alpha, beta = (float(x) for x in kw["baumgarte"])
+    model = c.model
+    print(
+        f"mechanism: {c.nb} moving bodies, {c.nv} velocity coordinates, {c.nrow} constraint "
+        f"rows, {c.nclr} clearance joints; t_end = {t_end} s, {kw['method']}, "
+        f"rtol {kw['rtol']:g}, atol {kw['atol']:g}, Baumgarte ({alpha:g}, {beta:g}), "
+        f"output every {kw.get('dt_out')} s"
+    )
+
+    warm = {}
+    y0 = cl.initial_state(c)
+    wk = make_work(model)
+    out = np.zeros_like(y0)
+    t0 = time.perf_counter()
+    rhs(0.0, y0, model, wk, alpha, beta, 0, out)
+    warm["rhs kernel (first call)"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    _rhs_loop(1, 0.0, y0, model, wk, alpha, beta, 0, out)
+    warm["rhs called from an @njit loop (first call)"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    cl.simulate(c, 0.005, **kw)
+    warm["simulate, DOPRI5 loop + post (first call)"] = time.perf_counter() - t0
+
+    # ------------------------------------------------------------ whole run, own engine
+    res: dict = {}
+
+    def own() -> None:
+        res["own"] = cl.simulate(c, t_end, **kw)
+
+    t_own = median_time(own, reps)
+    r = res["own"]
+    assert r.status == 0, r.message
+    loops = []
+    for _ in range(reps):
+        own()
+        loops.append(res["own"].stats["wall_time"])
+    t_loop = (statistics.median(loops), min(loops))
+    nfev = r.stats["nfev"]
+
+    # ------------------------------------------------------------ per right-hand side
+    # a state in contact from the run: the sample with the largest normal force
+    k = int(np.argmax(r.contact[:, :, 5].max(axis=1)))
+    y = np.zeros(c.ny)
+    y[: c.nq] = r.q[k]
+    y[c.nq : c.nq + c.nv] = r.v[k]
+    y[c.iz : c.iw] = r.bristle[k].reshape(-1)
+    tk = float(r.t[k])
+    flags = r.contact_state[k, :, 0].astype(bool)
+    ddm = r.contact_state[k, :, 1].copy()
+    wk.cflag[:] = flags
+    wk.cddm[:] = ddm
+
+    def kernel() -> None:
+        rhs(tk, y, model, wk, alpha, beta, 0, out)
+
+    def numpy_rhs() -> np.ndarray:
+        return reference_rhs_clearance(
+            mech, tk, y, alpha=alpha, beta=beta, in_contact=flags, delta_dot_minus=ddm
+        )[0]
+
+    f_scipy = cl.scipy_rhs(c, baumgarte=(alpha, beta), solver="schur")
+    kernel()
+    yd_ref = numpy_rhs()
+    agree = float(np.max(np.abs(out - yd_ref)) / np.max(np.abs(yd_ref)))
+    t_np1 = median_time(numpy_rhs, 1, 3)[0]
+    n_np = max(3, int(0.5 / t_np1))
+
+    def in_loop(n: int) -> tuple[float, float]:
+        fn = lambda: _rhs_loop(n, tk, y, model, wk, alpha, beta, 0, out)  # noqa: E731
+        med, best = median_time(fn, reps)
+        return med / n, best / n
+
+    rhs_times = {
+        "compiled kernel, in an @njit loop (no dispatch)": in_loop(20000),
+        "compiled kernel, called from Python": median_time(kernel, reps, 5000),
+        "scipy_rhs wrapper from Python": median_time(lambda: f_scipy(tk, y), reps, 5000),
+        "NumPy reference_rhs_clearance (baseline)": median_time(numpy_rhs, reps, n_np),
+    }
+    base_rhs = rhs_times["NumPy reference_rhs_clearance (baseline)"][0]
+
+    # ------------------------------------------------------------ baseline run
+    t_b = min(args.baseline_interval, t_end)
+
+    def baseline() -> None:
+        res["base"] = solve_ivp_clearance(
+            mech, (0.0, t_b), y0, alpha=alpha, beta=beta, rtol=kw["rtol"], atol=kw["atol"]
+        )
+
+    t_base = median_time(baseline, max(1, args.baseline_repeats))
+    sol = res["base"]
+    assert sol.success, sol.message
+    # Two ways to scale the short run to t_end: by simulated time (the first interval is
+    # mostly free flight with few, cheap steps, so this underestimates the persistent-contact
+    # phase), and by RHS count: the baseline's wall time per RHS evaluation (solve_ivp
+    # overhead included) times the own run's RHS count (RK45 and DOPRI5 at the same
+    # tolerances take about as many evaluations, performance-notes.md 3). The speed-ups use
+    # the second.
+    scale = t_end / t_b
+    base_time_scaled = (t_base[0] * scale, t_base[1] * scale)
+    base_run = t_base[0] / sol.nfev * nfev
+    base_best = t_base[1] / sol.nfev * nfev
+    # agreement: platform position at t_b, own run (dense output) vs baseline
+    ip = c.body_names.index(info.platform_body)
+    kb = int(np.argmin(np.abs(r.t - t_b)))
+    diff = float(np.max(np.abs(r.q[kb, 7 * ip : 7 * ip + 3] - sol.y[7 * ip : 7 * ip + 3, -1])))
+
+    # ------------------------------------------------------------ report
+    print()
+    print("compile / cache-load time of the first calls (excluded from everything below):")
+    for name, s in warm.items():
+        print(f"  {name:<48s} {fmt_time(s)}")
+    print(f"  {'scenario, inverse kinematics, compile_mechanism':<48s} {fmt_time(t_build)}")
+    print("  (a warm numba cache loads in well under 1 s; seconds mean numba compiled)")
+    print()
+    print(
+        f"per right-hand side (state in contact at t = {tk:.4f} s, F_N = "
+        f"{r.contact[k, :, 5].max():.0f} N; compiled vs NumPy agree to {agree:.1e} rel.)"
+    )
+    print(f"  {'variant':<48s} {'median/call':>12s} {'best':>12s} {'speed-up vs NumPy':>18s}")
+    for name, (s, best) in rhs_times.items():
+        print(f"  {name:<48s} {fmt_time(s):>12s} {fmt_time(best):>12s} {base_rhs / s:>17.1f}x")
+    print()
+    print(f"whole run, t_end = {t_end} s (medians of {reps} repeats; the factors use the medians)")
+    print(
+        f"  {'integrator':<48s} {'median wall':>12s} {'best':>12s} {'RHS evals':>10s} "
+        f"{'real-time factor':>17s} {'speed-up vs baseline':>21s}"
+    )
+    rows = [
+        ("own DOPRI5 (simulate, total call)", t_own, nfev),
+        ("own DOPRI5 (integration loop only)", t_loop, nfev),
+        ("solve_ivp RK45 + NumPy rhs, scaled by RHS count", (base_run, base_best), nfev),
+        (
+            "solve_ivp RK45 + NumPy rhs, scaled by sim. time",
+            base_time_scaled,
+            int(round(sol.nfev * scale)),
+        ),
+    ]
+    for name, (s, best), n in rows:
+        print(
+            f"  {name:<48s} {fmt_time(s):>12s} {fmt_time(best):>12s} {n:>10d} "
+            f"{t_end / s:>17.3g} {base_run / s:>20.1f}x"
+        )
+    print(
+        f"    (baseline = solve_ivp RK45 + NumPy rhs integrated to {t_b:g} s only, which "
+        f"includes the first impacts: {sol.nfev} RHS evaluations in "
+        f"{fmt_time(t_base[0]).strip()}. Scaled to {t_end:g} s by RHS count: its time per "
+        f"evaluation x the own run's {nfev} evaluations (the speed-ups use this); scaled by "
+        f"simulated time: x {scale:.3g}. The two agree when the short interval has the "
+        "run's step density; after the first impacts the joints stay in contact and the "
+        "steps are stability-bound)"
+    )
+    print()
+    st = r.stats
+    print(
+        f"own DOPRI5: {st['naccept']} accepted, {st['nreject']} rejected steps, "
+        f"{st['nevents']} contact events; platform position at {t_b:g} s, own vs baseline: "
+        f"max diff {diff:.1e} m (different event handling: located events vs first-order "
+        "capture at accepted steps)"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
