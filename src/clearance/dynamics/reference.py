@@ -366,7 +366,6 @@ def reference_rhs(
     *,
     alpha: float,
     beta: float,
-    extra_q: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """y_dot and lam of the augmented equations of motion, plain NumPy (physics.md d.1).
 
@@ -375,9 +374,8 @@ def reference_rhs(
     layout of a mechanism without clearance joints. alpha, beta: Baumgarte parameters [1/s]
     (physics.md d.2). Returns (y_dot, lam (m,)); lam in N or N m per row (Q_c = -phi_q^T lam).
     Clearance joints, sliding markers and varying inertias are outside this reference (they
-    have their own oracles: virtual work, energy balance, finite differences); extra_q
-    (6 nb,) adds generalised forces [F ; n'] computed by the caller (e.g. a NumPy contact
-    element, bench/bench_clearance_run.py).
+    have their own oracles: virtual work, energy balance, finite differences; the clearance
+    joint's NumPy twin is clearance.dynamics.reference_contact).
     """
     y = np.asarray(y, dtype=float)
     nb = mech.nbody
@@ -396,8 +394,6 @@ def reference_rhs(
     m = phi.size
     v = y[7 * nb : 7 * nb + nv]
     Q, power = _applied(kin, mech, y, t)
-    if extra_q is not None:  # e.g. contact forces computed by the caller (6 nb, body frame)
-        Q = Q + extra_q
     # Baumgarte: gamma_B = gamma - 2 alpha phi_dot - beta^2 phi (physics.md d.1, d.2)
     phi_dot = phi_q @ v + phi_t
     gamma_b = gamma - 2.0 * alpha * phi_dot - beta * beta * phi
