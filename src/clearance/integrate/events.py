@@ -34,19 +34,40 @@ _LUGRE = int(FrictionLaw.LUGRE)
 _NSAMPLE = 4
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
-def interpolate(y, K, h, x, out):
-    """DOPRI5 dense output at t + x h into out (4th-order continuous extension)."""
+@njit(cache=True, inline="always", error_model="numpy")
+def _weights(x):
+    """Dense-output weights b_k(x) = P[k, 0] x + ... + P[k, 3] x^4 of the 7 stages."""
     x2 = x * x
     x3 = x2 * x
     x4 = x3 * x
+    P = DP5_P
+    return (
+        P[0, 0] * x + P[0, 1] * x2 + P[0, 2] * x3 + P[0, 3] * x4,
+        P[1, 0] * x + P[1, 1] * x2 + P[1, 2] * x3 + P[1, 3] * x4,
+        P[2, 0] * x + P[2, 1] * x2 + P[2, 2] * x3 + P[2, 3] * x4,
+        P[3, 0] * x + P[3, 1] * x2 + P[3, 2] * x3 + P[3, 3] * x4,
+        P[4, 0] * x + P[4, 1] * x2 + P[4, 2] * x3 + P[4, 3] * x4,
+        P[5, 0] * x + P[5, 1] * x2 + P[5, 2] * x3 + P[5, 3] * x4,
+        P[6, 0] * x + P[6, 1] * x2 + P[6, 2] * x3 + P[6, 3] * x4,
+    )
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def interpolate(y, K, h, x, out):
+    """DOPRI5 dense output at t + x h into out (4th-order continuous extension). The
+    weights are computed once; the loop over the entries has no dependence between
+    iterations, so it vectorises (out must not alias y or K)."""
+    w0, w1, w2, w3, w4, w5, w6 = _weights(x)
     for i in range(y.shape[0]):
-        acc = 0.0
-        for k in range(7):
-            acc += K[k, i] * (
-                DP5_P[k, 0] * x + DP5_P[k, 1] * x2 + DP5_P[k, 2] * x3 + DP5_P[k, 3] * x4
-            )
-        out[i] = y[i] + h * acc
+        out[i] = y[i] + h * (
+            K[0, i] * w0
+            + K[1, i] * w1
+            + K[2, i] * w2
+            + K[3, i] * w3
+            + K[4, i] * w4
+            + K[5, i] * w5
+            + K[6, i] * w6
+        )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -84,32 +105,36 @@ def _pose_interp(model, wk, b, y, K, h, x):
     if b < 0:
         return
     q = 7 * b
-    x2 = x * x
-    x3 = x2 * x
-    x4 = x3 * x
+    w = _weights(x)
     _set_body(
         model,
         wk,
         b,
         y,
-        _interp1(y, K, h, q, x, x2, x3, x4),
-        _interp1(y, K, h, q + 1, x, x2, x3, x4),
-        _interp1(y, K, h, q + 2, x, x2, x3, x4),
-        _interp1(y, K, h, q + 3, x, x2, x3, x4),
-        _interp1(y, K, h, q + 4, x, x2, x3, x4),
-        _interp1(y, K, h, q + 5, x, x2, x3, x4),
-        _interp1(y, K, h, q + 6, x, x2, x3, x4),
+        _interp1(y, K, h, q, w),
+        _interp1(y, K, h, q + 1, w),
+        _interp1(y, K, h, q + 2, w),
+        _interp1(y, K, h, q + 3, w),
+        _interp1(y, K, h, q + 4, w),
+        _interp1(y, K, h, q + 5, w),
+        _interp1(y, K, h, q + 6, w),
         False,
     )
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _interp1(y, K, h, i, x, x2, x3, x4):
-    """Entry i of the dense output at t + x h (the expression of `interpolate`)."""
-    acc = 0.0
-    for k in range(7):
-        acc += K[k, i] * (DP5_P[k, 0] * x + DP5_P[k, 1] * x2 + DP5_P[k, 2] * x3 + DP5_P[k, 3] * x4)
-    return y[i] + h * acc
+def _interp1(y, K, h, i, w):
+    """Entry i of the dense output with weights w = _weights(x) (the expression of
+    `interpolate`, to the bit)."""
+    return y[i] + h * (
+        K[0, i] * w[0]
+        + K[1, i] * w[1]
+        + K[2, i] * w[2]
+        + K[3, i] * w[3]
+        + K[4, i] * w[4]
+        + K[5, i] * w[5]
+        + K[6, i] * w[6]
+    )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

@@ -234,11 +234,17 @@ def dopri5(
         # stages 2..7
         bad = False
         for s in range(1, 7):
+            # ytmp = y + h sum_k a_sk K_k, summed over k in order for each entry (the loops
+            # over the entries vectorise; the sums are those of a per-entry loop to the bit)
+            a = DP5_A[s, 0]
             for i in range(ny):
-                acc = 0.0
-                for k in range(s):
-                    acc += DP5_A[s, k] * K[k, i]
-                ytmp[i] = y[i] + h * acc
+                ytmp[i] = a * K[0, i]
+            for k in range(1, s):
+                a = DP5_A[s, k]
+                for i in range(ny):
+                    ytmp[i] += a * K[k, i]
+            for i in range(ny):
+                ytmp[i] = y[i] + h * ytmp[i]
             st = rhs(t + DP5_C[s] * h, ytmp, model, wk, alpha, beta, solver, K[s])
             stats[ST_NFEV] += 1
             if st != 0:
@@ -248,10 +254,13 @@ def dopri5(
         if not bad:
             for i in range(ny):
                 ynew[i] = ytmp[i]  # stage 7 is evaluated at the 5th-order solution (FSAL)
-                acc = 0.0
-                for k in range(7):
-                    acc += DP5_E[k] * K[k, i]
-                err[i] = h * acc
+                err[i] = DP5_E[0] * K[0, i]
+            for k in range(1, 7):
+                e = DP5_E[k]
+                for i in range(ny):
+                    err[i] += e * K[k, i]
+            for i in range(ny):
+                err[i] *= h
             en = _err_norm(err, y, ynew, nerr, rtol, atol)
             if not np.isfinite(en):
                 bad = True
