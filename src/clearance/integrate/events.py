@@ -1,11 +1,12 @@
 """Contact events of clearance joints, compiled (physics.md d.5, f.5).
 
-Onset (delta crosses 0 upward) and separation (downward) are located on the DOPRI5 dense
-interpolant of an accepted step, so that no contact is stepped over: delta is sampled at
-interior points of the step, and a sign change is bracketed and refined (Illinois regula
-falsi) until |delta| <= onset_tolerance * c on the far side of the crossing. The step is then
-cut at the event, the discrete state updated (contact flag; impact velocity latched, floored;
-LuGre bristles reset at separation) and the event logged.
+Onset (delta crosses 0 upward) and separation (downward) are located on the dense output
+of an accepted step (the interpolant P of the pair that made it, tableau.py), so that no
+contact is stepped over: delta is sampled at interior points of the step, and a sign change
+is bracketed and refined (Illinois regula falsi) until |delta| <= onset_tolerance * c on the
+far side of the crossing. The step is then cut at the event, the discrete state updated
+(contact flag; impact velocity latched, floored; LuGre bristles reset at separation) and the
+event logged.
 
 A probe of delta needs only the joint's two bodies: it interpolates their 7 + 7 position
 entries and evaluates only the slide functions of moving centres (the full state and all
@@ -24,7 +25,6 @@ from numba import njit
 
 from clearance.contact.joint import _centres, clearance_geometry
 from clearance.contact.laws import FrictionLaw
-from clearance.integrate.tableau import DP5_P
 from clearance.kinematics.rotations import add, cross, dot, mattvec, quat_to_rot, scale, sub
 from clearance.kinematics.timefn import eval_timefn
 
@@ -35,17 +35,16 @@ _NSAMPLE = 4
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def interpolate(y, K, h, x, out):
-    """DOPRI5 dense output at t + x h into out (4th-order continuous extension)."""
+def interpolate(y, K, P, h, x, out):
+    """Dense output at t + x h into out: the continuous extension P (7, 4) of the method whose
+    stages K (7, ny) made the step from y (layout of tableau.py)."""
     x2 = x * x
     x3 = x2 * x
     x4 = x3 * x
     for i in range(y.shape[0]):
         acc = 0.0
         for k in range(7):
-            acc += K[k, i] * (
-                DP5_P[k, 0] * x + DP5_P[k, 1] * x2 + DP5_P[k, 2] * x3 + DP5_P[k, 3] * x4
-            )
+            acc += K[k, i] * (P[k, 0] * x + P[k, 1] * x2 + P[k, 2] * x3 + P[k, 3] * x4)
         out[i] = y[i] + h * acc
 
 
@@ -79,7 +78,7 @@ def _pose_at(model, wk, b, y, vel):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _pose_interp(model, wk, b, y, K, h, x):
+def _pose_interp(model, wk, b, y, K, P, h, x):
     """Body b at t + x h on the dense output: `interpolate` restricted to its 7 entries."""
     if b < 0:
         return
@@ -92,23 +91,23 @@ def _pose_interp(model, wk, b, y, K, h, x):
         wk,
         b,
         y,
-        _interp1(y, K, h, q, x, x2, x3, x4),
-        _interp1(y, K, h, q + 1, x, x2, x3, x4),
-        _interp1(y, K, h, q + 2, x, x2, x3, x4),
-        _interp1(y, K, h, q + 3, x, x2, x3, x4),
-        _interp1(y, K, h, q + 4, x, x2, x3, x4),
-        _interp1(y, K, h, q + 5, x, x2, x3, x4),
-        _interp1(y, K, h, q + 6, x, x2, x3, x4),
+        _interp1(y, K, P, h, q, x, x2, x3, x4),
+        _interp1(y, K, P, h, q + 1, x, x2, x3, x4),
+        _interp1(y, K, P, h, q + 2, x, x2, x3, x4),
+        _interp1(y, K, P, h, q + 3, x, x2, x3, x4),
+        _interp1(y, K, P, h, q + 4, x, x2, x3, x4),
+        _interp1(y, K, P, h, q + 5, x, x2, x3, x4),
+        _interp1(y, K, P, h, q + 6, x, x2, x3, x4),
         False,
     )
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _interp1(y, K, h, i, x, x2, x3, x4):
+def _interp1(y, K, P, h, i, x, x2, x3, x4):
     """Entry i of the dense output at t + x h (the expression of `interpolate`)."""
     acc = 0.0
     for k in range(7):
-        acc += K[k, i] * (DP5_P[k, 0] * x + DP5_P[k, 1] * x2 + DP5_P[k, 2] * x3 + DP5_P[k, 3] * x4)
+        acc += K[k, i] * (P[k, 0] * x + P[k, 1] * x2 + P[k, 2] * x3 + P[k, 3] * x4)
     return y[i] + h * acc
 
 
@@ -127,15 +126,15 @@ def _slides(model, wk, k, t):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _delta(model, wk, k, t, y, K, h, x):
+def _delta(model, wk, k, t, y, K, P, h, x):
     """delta of clearance joint k at t + x h on the dense output of the step (x = 0: y)."""
     if x == 0.0:
         _pose_at(model, wk, model.clr_bs[k], y, False)
         _pose_at(model, wk, model.clr_bb[k], y, False)
         _slides(model, wk, k, t)
     else:
-        _pose_interp(model, wk, model.clr_bs[k], y, K, h, x)
-        _pose_interp(model, wk, model.clr_bb[k], y, K, h, x)
+        _pose_interp(model, wk, model.clr_bs[k], y, K, P, h, x)
+        _pose_interp(model, wk, model.clr_bb[k], y, K, P, h, x)
         _slides(model, wk, k, t + x * h)
     return clearance_geometry(model, k, wk.bA, wk.br, wk.fval)[2]
 
@@ -147,8 +146,9 @@ def _wants(flag, d):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def locate_event(model, wk, t, y, K, h):
-    """Earliest contact event inside the step (x in (0, 1]) and its joint, or (2.0, -1).
+def locate_event(model, wk, t, y, K, P, h):
+    """Earliest contact event inside the step (x in (0, 1]) and its joint, or (2.0, -1);
+    delta is probed on the dense output P of the step's method (see `interpolate`).
 
     The returned x is on the far side of the crossing with |delta| <= tol * c (or the
     bracket is below 1e-14 of the step), so the discrete update applies there.
@@ -159,7 +159,7 @@ def locate_event(model, wk, t, y, K, h):
         flag = wk.cflag[k]
         tol = model.clr_geo[k, 4] * model.clr_geo[k, 2]
         xlo = 0.0
-        dlo = _delta(model, wk, k, t, y, K, h, 0.0)
+        dlo = _delta(model, wk, k, t, y, K, P, h, 0.0)
         found = False
         dhi = 0.0
         xhi = 1.0
@@ -167,7 +167,7 @@ def locate_event(model, wk, t, y, K, h):
             x = j / _NSAMPLE
             if x >= xbest:
                 break
-            d = _delta(model, wk, k, t, y, K, h, x)
+            d = _delta(model, wk, k, t, y, K, P, h, x)
             if _wants(flag, d):
                 xhi = x
                 dhi = d
@@ -188,7 +188,7 @@ def locate_event(model, wk, t, y, K, h):
                 xm = 0.5 * (xlo + xhi)
             if not (xlo < xm < xhi):
                 xm = 0.5 * (xlo + xhi)
-            dm = _delta(model, wk, k, t, y, K, h, xm)
+            dm = _delta(model, wk, k, t, y, K, P, h, xm)
             if _wants(flag, dm):
                 xhi = xm
                 dhi = dm

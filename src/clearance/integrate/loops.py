@@ -1,9 +1,10 @@
 """Integrators that own the hot loop (compiled; no Python per step).
 
-`dopri5`: adaptive Dormand-Prince 5(4), PI step-size control (Hairer & Wanner, DOPRI5
-constants), FSAL, dense output at the requested times (steps are never shortened to hit the
-output grid). `rk4`: classical fixed step, with the step fitted to the output grid. Both
-can apply mass-weighted coordinate projection (physics.md d.4) after accepted steps.
+`erk54`: adaptive explicit 7-stage FSAL Runge-Kutta 5(4) pair given by its tableau
+(tableau.py: Dormand-Prince "dopri5"), PI step-size control (Hairer & Wanner, DOPRI5
+constants), dense output at the requested times (steps are never shortened to hit the output
+grid). `rk4`: classical fixed step, with the step fitted to the output grid. Both can apply
+mass-weighted coordinate projection (physics.md d.4) after accepted steps.
 
 Status codes (also in `Status`): 0 done, 1 singular constraint matrix, 2 step size
 underflow, 3 too many steps, 4 non-finite state.
@@ -20,7 +21,6 @@ from numba import njit
 from clearance.dynamics.rhs import constraint_rows, rhs
 from clearance.dynamics.solve import solve_constrained
 from clearance.integrate.events import interpolate, locate_event, update_contacts
-from clearance.integrate.tableau import DP5_A, DP5_C, DP5_E
 from clearance.kinematics.rotations import quat_rotate_body
 
 
@@ -132,12 +132,16 @@ def _finite(y):
 
 
 @njit(cache=True, error_model="numpy")
-def dopri5(
+def erk54(
     model,
     wk,
     alpha,
     beta,
     solver,
+    A,
+    C,
+    E,
+    P,
     t0,
     y0,
     t_out,
@@ -154,6 +158,9 @@ def dopri5(
     stats,
 ):
     """Integrate from (t0, y0) and write y at the times t_out into Y (n_out, ny).
+
+    (A, C, E, P): the pair's tableau (tableau.py layout; A[6] = b, b_7 = 0, so stage 7 is
+    f at the new solution, FSAL); E gives the error estimate, P the dense output.
 
     proj_tol > 0 enables coordinate projection after each accepted step. Contact events of
     clearance joints are located on the dense output and the step is cut there (events.py);
@@ -237,9 +244,9 @@ def dopri5(
             for i in range(ny):
                 acc = 0.0
                 for k in range(s):
-                    acc += DP5_A[s, k] * K[k, i]
+                    acc += A[s, k] * K[k, i]
                 ytmp[i] = y[i] + h * acc
-            st = rhs(t + DP5_C[s] * h, ytmp, model, wk, alpha, beta, solver, K[s])
+            st = rhs(t + C[s] * h, ytmp, model, wk, alpha, beta, solver, K[s])
             stats[ST_NFEV] += 1
             if st != 0:
                 bad = True
@@ -250,7 +257,7 @@ def dopri5(
                 ynew[i] = ytmp[i]  # stage 7 is evaluated at the 5th-order solution (FSAL)
                 acc = 0.0
                 for k in range(7):
-                    acc += DP5_E[k] * K[k, i]
+                    acc += E[k] * K[k, i]
                 err[i] = h * acc
             en = _err_norm(err, y, ynew, nerr, rtol, atol)
             if not np.isfinite(en):
@@ -272,16 +279,16 @@ def dopri5(
             # contact events inside the step: cut the step at the earliest one
             xev = 2.0
             if model.nclr > 0:
-                xev, _ = locate_event(model, wk, t, y, K, h)
+                xev, _ = locate_event(model, wk, t, y, K, P, h)
             if xev <= 1.0:
-                interpolate(y, K, h, xev, ynew)
+                interpolate(y, K, P, h, xev, ynew)
                 tnew = t + xev * h
                 stats[ST_NEVT] += 1
             else:
                 tnew = t + h
             # dense output for every requested time in (t, tnew]
             while iout < nout and t_out[iout] <= tnew:
-                interpolate(y, K, h, (t_out[iout] - t) / h, Y[iout])
+                interpolate(y, K, P, h, (t_out[iout] - t) / h, Y[iout])
                 if proj_tol > 0.0:
                     # the interpolant is off the manifold by its own error: project samples too
                     st = project(model, wk, t_out[iout], Y[iout], solver, proj_tol, 3)

@@ -26,11 +26,12 @@ from clearance.integrate.loops import (
     ST_NREJ,
     STATUS_MESSAGE,
     Status,
-    dopri5,
+    erk54,
     rk4,
 )
 from clearance.integrate.post import post_process
 from clearance.integrate.result import Result
+from clearance.integrate.tableau import DP5_A, DP5_C, DP5_E, DP5_P
 from clearance.kinematics.analysis import assemble, rank_check, velocity_analysis
 from clearance.model.drivers import DistanceDriver
 from clearance.model.errors import ModelError
@@ -159,12 +160,16 @@ def simulate(
     ptol = float(projection_tol) if projection else 0.0
     wall0 = _time.perf_counter()
     if method == "dopri5":
-        status, nout, t_reached, nlog = dopri5(
+        status, nout, t_reached, nlog = erk54(
             c.model,
             wk,
             alpha,
             beta,
             code,
+            DP5_A,
+            DP5_C,
+            DP5_E,
+            DP5_P,
             float(t_start),
             y,
             t_out,
