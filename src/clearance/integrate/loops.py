@@ -1,10 +1,11 @@
 """Integrators that own the hot loop (compiled; no Python per step).
 
 `erk54`: adaptive explicit 7-stage FSAL Runge-Kutta 5(4) pair given by its tableau
-(tableau.py: Dormand-Prince "dopri5"), PI step-size control (Hairer & Wanner, DOPRI5
-constants), dense output at the requested times (steps are never shortened to hit the output
-grid). `rk4`: classical fixed step, with the step fitted to the output grid. Both can apply
-mass-weighted coordinate projection (physics.md d.4) after accepted steps.
+(tableau.py: Dormand-Prince "dopri5" or Tsitouras "tsit5"), PI step-size control (Hairer &
+Wanner, DOPRI5 constants, for both pairs), dense output at the requested times (steps are
+never shortened to hit the output grid). `rk4`: classical fixed step, with the step fitted to
+the output grid. Both can apply mass-weighted coordinate projection (physics.md d.4) after
+accepted steps.
 
 Status codes (also in `Status`): 0 done, 1 singular constraint matrix, 2 step size
 underflow, 3 too many steps, 4 non-finite state.
@@ -224,7 +225,7 @@ def erk54(
         else:
             h1 = (0.01 / max(d1, d2)) ** 0.2
         h = min(100 * h, h1, hmax, t_end - t0)
-    # PI controller constants (DOPRI5): expo1 = 0.2 - 0.75 beta_pi
+    # PI controller constants (DOPRI5's, used for both pairs): expo1 = 0.2 - 0.75 beta_pi
     beta_pi = 0.04
     expo1 = 0.2 - 0.75 * beta_pi
     safe = 0.9
