@@ -1,4 +1,5 @@
-"""Integrators: own DOPRI5 against scipy's solve_ivp on the same compiled right-hand side,
+"""Integrators: own DOPRI5 (and Tsit5, test_tsit5.py) against scipy's solve_ivp on the same
+compiled right-hand side,
 convergence orders from log-log fits (RK4: 4, DOPRI5 at fixed steps: 5, DOPRI5 global error
 proportional to the tolerance), and partial results on failure.
 
@@ -45,10 +46,11 @@ def _slope(h, err) -> float:
 
 
 # ---------------------------------------------------------------------------- vs scipy
+@pytest.mark.parametrize("pair", ["dopri5", "tsit5"])
 @pytest.mark.parametrize(("method", "rtol"), [("DOP853", 1e-10), ("Radau", 1e-10)])
-def test_dopri5_matches_solve_ivp(compiled, method, rtol):
-    """Same compiled rhs, same initial state: own DOPRI5 (rtol 1e-10) vs scipy's DOP853
-    (explicit, 8th order) and Radau (implicit, 5th order)."""
+def test_dopri5_matches_solve_ivp(compiled, method, rtol, pair):
+    """Same compiled rhs, same initial state: own DOPRI5 / Tsit5 (rtol 1e-10) vs scipy's
+    DOP853 (explicit, 8th order) and Radau (implicit, 5th order)."""
     c = compiled
     t_end = 2.0
     t_eval = np.linspace(0.0, t_end, 41)
@@ -63,13 +65,16 @@ def test_dopri5_matches_solve_ivp(compiled, method, rtol):
         t_eval=t_eval,
     )
     assert sol.success
-    r = cl.simulate(c, t_end, t_out=t_eval, rtol=1e-10, atol=1e-12, baumgarte=BAUMGARTE)
+    r = cl.simulate(
+        c, t_end, t_out=t_eval, method=pair, rtol=1e-10, atol=1e-12, baumgarte=BAUMGARTE
+    )
     assert r.success, r.message
     ys = sol.y.T
     n = c.nq + c.nv
     own = np.hstack([r.q, r.v])
     # Measured: final state 2.6e-10, all 41 samples (own dense output) 9e-10, work integral
-    # W_c 1e-10 for both oracles. 1e-8 leaves 10x over the dense-output error.
+    # W_c 1e-10 for both oracles (Tsit5: 1.1e-10, 3e-10, 1.1e-10). 1e-8 leaves 10x over the
+    # dense-output error.
     assert np.max(np.abs(own[-1] - ys[-1, :n])) < 1e-8
     assert np.max(np.abs(own - ys[:, :n])) < 1e-8
     assert np.max(np.abs(r.energy["work_constraints"] - ys[:, n])) < 1e-8
@@ -150,15 +155,17 @@ def test_dopri5_global_error_proportional_to_tolerance(compiled, reference):
     assert 3.0 < steps[-1] / steps[0] < 12.0, steps
 
 
-def test_rk4_and_dopri5_agree_on_the_output_grid(compiled):
-    """RK4 fits its step to the output grid; DOPRI5 interpolates (dense output)."""
+@pytest.mark.parametrize("pair", ["dopri5", "tsit5"])
+def test_rk4_and_dopri5_agree_on_the_output_grid(compiled, pair):
+    """RK4 fits its step to the output grid; DOPRI5 / Tsit5 interpolate (dense output)."""
     c = compiled
     t_out = np.linspace(0.0, T_END, 11)
     a = cl.simulate(c, T_END, t_out=t_out, method="rk4", step=1e-3)
-    b = cl.simulate(c, T_END, t_out=t_out, rtol=1e-11, atol=1e-13)
+    b = cl.simulate(c, T_END, t_out=t_out, method=pair, rtol=1e-11, atol=1e-13)
     np.testing.assert_array_equal(a.t, t_out)
-    # measured 6.3e-11 (q) and 8.8e-10 (v): the RK4 error at h = 1e-3 (C h^4 with the
-    # order test's C); a sample misplaced by one step would differ by ~1e-3
+    # measured 6.3e-11 (q) and 8.8e-10 (v) (Tsit5: 6.2e-11, 8.6e-10): the RK4 error at
+    # h = 1e-3 (C h^4 with the order test's C); a sample misplaced by one step would differ
+    # by ~1e-3
     assert np.max(np.abs(a.q - b.q)) < 1e-9
     assert np.max(np.abs(a.v - b.v)) < 1e-8
 
@@ -198,7 +205,7 @@ def test_step_underflow_returns_initial_sample(compiled):
     np.testing.assert_allclose(r.q[0], cl.initial_state(compiled)[: compiled.nq], atol=0)
 
 
-@pytest.mark.parametrize("method", ["dopri5", "rk4"])
+@pytest.mark.parametrize("method", ["dopri5", "tsit5", "rk4"])
 def test_euler_parameters_stay_unit(method):
     """p is renormalised after every accepted step (physics.md b.2) and in every output
     sample; without it |p| drifts by the truncation error (about 1e-9 over 10 s here)."""

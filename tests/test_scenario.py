@@ -264,7 +264,7 @@ BROKEN = [
         '[solver]\nmethod = "rk45"',
         "solver.method",
         "'rk45'",
-        "'dopri5', 'rk4'",
+        "'dopri5', 'tsit5', 'rk4'",
     ),
     (
         "invalid TOML syntax",

@@ -109,9 +109,10 @@ def _zero_crossings(t: np.ndarray, x: np.ndarray, xdot: np.ndarray) -> np.ndarra
     return np.array([brentq(sp, t[i], t[i + 1], xtol=1e-14, rtol=1e-15) for i in idx])
 
 
+@pytest.mark.parametrize("method", ["dopri5", "tsit5"])
 @pytest.mark.parametrize("joint", ["spherical", "revolute"])
 @pytest.mark.parametrize("theta0_deg", [90.0, 170.0])
-def test_pendulum_period_elliptic(joint, theta0_deg):
+def test_pendulum_period_elliptic(joint, theta0_deg, method):
     """T = 4 sqrt(I_O / (m g d)) K(k), k = sin(theta0 / 2) (scipy: ellipk(m = k^2))."""
     theta0 = math.radians(theta0_deg)
     mech = spatial_pendulum(theta0=theta0, joint=joint, length=1.0)
@@ -119,7 +120,7 @@ def test_pendulum_period_elliptic(joint, theta0_deg):
     d = 0.5  # pivot -> mass centre
     i_o = rod.inertia_matrix[1, 1] + rod.mass * d * d  # about the hinge axis (world y)
     T = 4.0 * math.sqrt(i_o / (rod.mass * G * d)) * ellipk(math.sin(theta0 / 2.0) ** 2)
-    r = cl.simulate(mech, 1.9 * T, dt_out=2e-3, rtol=1e-10, atol=1e-12)
+    r = cl.simulate(mech, 1.9 * T, dt_out=2e-3, method=method, rtol=1e-10, atol=1e-12)
     assert r.success, r.message
     rg = r.position("rod")
     theta = np.arctan2(-rg[:, 0], -rg[:, 2])  # Ry(theta) maps -z to (-sin, 0, -cos)
@@ -127,7 +128,8 @@ def test_pendulum_period_elliptic(joint, theta0_deg):
     roots = _zero_crossings(r.t, theta, theta_dot)
     assert roots.size == 4  # T/4, 3T/4, 5T/4, 7T/4
     period = 2.0 * (roots[-1] - roots[0]) / (roots.size - 1)
-    # Measured: first crossing <= 5e-12 T, period <= 5.2e-10 T (rtol 1e-10). 1e-7 is
+    # Measured: first crossing <= 5e-12 T, period <= 5.2e-10 T (rtol 1e-10; Tsit5 2.2e-13 T,
+    # 4.7e-10 T). 1e-7 is
     # 400x below the 3.7e-5 period error of dropping the rod radius from I_O, and the
     # K(k) vs K(k^2) argument mix-up is a > 10 % error.
     assert abs(roots[0] - T / 4.0) / T < 1e-7
@@ -163,8 +165,9 @@ def test_conical_pendulum_steady_precession():
 
 
 # ---------------------------------------------------------------------------- energy
-def test_double_pendulum_energy_conserved():
-    r = cl.simulate(double_pendulum(), 4.0, dt_out=0.01, rtol=1e-9, atol=1e-12)
+@pytest.mark.parametrize("method", ["dopri5", "tsit5"])
+def test_double_pendulum_energy_conserved(method):
+    r = cl.simulate(double_pendulum(), 4.0, dt_out=0.01, method=method, rtol=1e-9, atol=1e-12)
     assert r.success, r.message
     e = r.energy
     scale = _energy_scale(r)
@@ -173,7 +176,7 @@ def test_double_pendulum_energy_conserved():
     assert np.ptp(e["kinetic"]) > 0.1 * scale
     assert np.ptp(r.position("rod2")[:, 1]) > 0.2
     # Measured (rtol 1e-9): |residual| 2.0e-10, |T + V - E0| 1.6e-10, |W_c| 5.4e-11 of the
-    # scale. 1e-8 leaves 50x.
+    # scale (Tsit5: 1.7e-10, 6.8e-11, 1.1e-10). 1e-8 leaves 50x.
     assert np.max(np.abs(e["residual"])) / scale < 1e-8
     tv = e["kinetic"] + e["potential"]
     assert np.max(np.abs(tv - tv[0])) / scale < 1e-8
@@ -389,19 +392,29 @@ def test_projection_rk4_keeps_constraints_on_the_grid():
     assert np.max(np.abs(free.phi_dot)) > 1e-7
 
 
-def test_projection_dopri5_final_state():
-    """DOPRI5 projects after each accepted step; the last step ends at t_end."""
+@pytest.mark.parametrize("method", ["dopri5", "tsit5"])
+def test_projection_dopri5_final_state(method):
+    """DOPRI5 / Tsit5 project after each accepted step; the last step ends at t_end."""
     c = cl.compile_mechanism(double_pendulum())
     for t_end in (1.0, 3.3, 5.0):
-        r = cl.simulate(c, t_end, t_out=np.array([t_end]), rtol=1e-6, atol=1e-9, projection=True)
+        r = cl.simulate(
+            c,
+            t_end,
+            t_out=np.array([t_end]),
+            method=method,
+            rtol=1e-6,
+            atol=1e-9,
+            projection=True,
+        )
         assert r.success and r.stats["nproject"] > 0
-        # measured <= 4e-11 (the last step's own error after projected steps); without
-        # projection 2.8e-8
+        # measured <= 4e-11 (Tsit5 9.2e-11; the last step's own error after projected
+        # steps); without projection 2.8e-8
         assert np.max(np.abs(r.phi)) < 1e-9, t_end
 
 
-def test_projection_dopri5_dense_output_samples():
+@pytest.mark.parametrize("method", ["dopri5", "tsit5"])
+def test_projection_dopri5_dense_output_samples(method):
     c = cl.compile_mechanism(double_pendulum())
-    r = cl.simulate(c, 5.0, dt_out=0.01, rtol=1e-6, atol=1e-9, projection=True)
+    r = cl.simulate(c, 5.0, dt_out=0.01, method=method, rtol=1e-6, atol=1e-9, projection=True)
     assert r.success
     assert np.max(np.abs(r.phi)) < 1e-9

@@ -1,11 +1,12 @@
 """Contact events of clearance joints, compiled (physics.md d.5, f.5).
 
-Onset (delta crosses 0 upward) and separation (downward) are located on the DOPRI5 dense
-interpolant of an accepted step, so that no contact is stepped over: delta is sampled at
-interior points of the step, and a sign change is bracketed and refined (Illinois regula
-falsi) until |delta| <= onset_tolerance * c on the far side of the crossing. The step is then
-cut at the event, the discrete state updated (contact flag; impact velocity latched, floored;
-LuGre bristles reset at separation) and the event logged.
+Onset (delta crosses 0 upward) and separation (downward) are located on the dense output
+of an accepted step (the interpolant P of the pair that made it, tableau.py), so that no
+contact is stepped over: delta is sampled at interior points of the step, and a sign change
+is bracketed and refined (Illinois regula falsi) until |delta| <= onset_tolerance * c on the
+far side of the crossing. The step is then cut at the event, the discrete state updated
+(contact flag; impact velocity latched, floored; LuGre bristles reset at separation) and the
+event logged.
 
 A probe of delta needs only the joint's two bodies: it interpolates their 7 + 7 position
 entries and evaluates only the slide functions of moving centres (the full state and all
@@ -24,7 +25,6 @@ from numba import njit
 
 from clearance.contact.joint import _centres, clearance_geometry
 from clearance.contact.laws import FrictionLaw
-from clearance.integrate.tableau import DP5_P
 from clearance.kinematics.rotations import add, cross, dot, mattvec, quat_to_rot, scale, sub
 from clearance.kinematics.timefn import eval_timefn
 
@@ -35,12 +35,11 @@ _NSAMPLE = 4
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _weights(x):
+def _weights(P, x):
     """Dense-output weights b_k(x) = P[k, 0] x + ... + P[k, 3] x^4 of the 7 stages."""
     x2 = x * x
     x3 = x2 * x
     x4 = x3 * x
-    P = DP5_P
     return (
         P[0, 0] * x + P[0, 1] * x2 + P[0, 2] * x3 + P[0, 3] * x4,
         P[1, 0] * x + P[1, 1] * x2 + P[1, 2] * x3 + P[1, 3] * x4,
@@ -53,11 +52,12 @@ def _weights(x):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def interpolate(y, K, h, x, out):
-    """DOPRI5 dense output at t + x h into out (4th-order continuous extension). The
-    weights are computed once; the loop over the entries has no dependence between
-    iterations, so it vectorises (out must not alias y or K)."""
-    w0, w1, w2, w3, w4, w5, w6 = _weights(x)
+def interpolate(y, K, P, h, x, out):
+    """Dense output at t + x h into out: the continuous extension P (7, 4) of the method whose
+    stages K (7, ny) made the step from y (layout of tableau.py). The weights are computed
+    once; the loop over the entries has no dependence between iterations, so it vectorises
+    (out must not alias y or K)."""
+    w0, w1, w2, w3, w4, w5, w6 = _weights(P, x)
     for i in range(y.shape[0]):
         out[i] = y[i] + h * (
             K[0, i] * w0
@@ -100,12 +100,12 @@ def _pose_at(model, wk, b, y, vel):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _pose_interp(model, wk, b, y, K, h, x):
+def _pose_interp(model, wk, b, y, K, P, h, x):
     """Body b at t + x h on the dense output: `interpolate` restricted to its 7 entries."""
     if b < 0:
         return
     q = 7 * b
-    w = _weights(x)
+    w = _weights(P, x)
     _set_body(
         model,
         wk,
@@ -124,7 +124,7 @@ def _pose_interp(model, wk, b, y, K, h, x):
 
 @njit(cache=True, inline="always", error_model="numpy")
 def _interp1(y, K, h, i, w):
-    """Entry i of the dense output with weights w = _weights(x) (the expression of
+    """Entry i of the dense output with weights w = _weights(P, x) (the expression of
     `interpolate`, to the bit)."""
     return y[i] + h * (
         K[0, i] * w[0]
@@ -152,15 +152,15 @@ def _slides(model, wk, k, t):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _delta(model, wk, k, t, y, K, h, x):
+def _delta(model, wk, k, t, y, K, P, h, x):
     """delta of clearance joint k at t + x h on the dense output of the step (x = 0: y)."""
     if x == 0.0:
         _pose_at(model, wk, model.clr_bs[k], y, False)
         _pose_at(model, wk, model.clr_bb[k], y, False)
         _slides(model, wk, k, t)
     else:
-        _pose_interp(model, wk, model.clr_bs[k], y, K, h, x)
-        _pose_interp(model, wk, model.clr_bb[k], y, K, h, x)
+        _pose_interp(model, wk, model.clr_bs[k], y, K, P, h, x)
+        _pose_interp(model, wk, model.clr_bb[k], y, K, P, h, x)
         _slides(model, wk, k, t + x * h)
     return clearance_geometry(model, k, wk.bA, wk.br, wk.fval)[2]
 
@@ -172,8 +172,9 @@ def _wants(flag, d):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def locate_event(model, wk, t, y, K, h):
-    """Earliest contact event inside the step (x in (0, 1]) and its joint, or (2.0, -1).
+def locate_event(model, wk, t, y, K, P, h):
+    """Earliest contact event inside the step (x in (0, 1]) and its joint, or (2.0, -1);
+    delta is probed on the dense output P of the step's method (see `interpolate`).
 
     The returned x is on the far side of the crossing with |delta| <= tol * c (or the
     bracket is below 1e-14 of the step), so the discrete update applies there.
@@ -184,7 +185,7 @@ def locate_event(model, wk, t, y, K, h):
         flag = wk.cflag[k]
         tol = model.clr_geo[k, 4] * model.clr_geo[k, 2]
         xlo = 0.0
-        dlo = _delta(model, wk, k, t, y, K, h, 0.0)
+        dlo = _delta(model, wk, k, t, y, K, P, h, 0.0)
         found = False
         dhi = 0.0
         xhi = 1.0
@@ -192,7 +193,7 @@ def locate_event(model, wk, t, y, K, h):
             x = j / _NSAMPLE
             if x >= xbest:
                 break
-            d = _delta(model, wk, k, t, y, K, h, x)
+            d = _delta(model, wk, k, t, y, K, P, h, x)
             if _wants(flag, d):
                 xhi = x
                 dhi = d
@@ -213,7 +214,7 @@ def locate_event(model, wk, t, y, K, h):
                 xm = 0.5 * (xlo + xhi)
             if not (xlo < xm < xhi):
                 xm = 0.5 * (xlo + xhi)
-            dm = _delta(model, wk, k, t, y, K, h, xm)
+            dm = _delta(model, wk, k, t, y, K, P, h, xm)
             if _wants(flag, dm):
                 xhi = xm
                 dhi = dm

@@ -1,9 +1,11 @@
 """Integrators that own the hot loop (compiled; no Python per step).
 
-`dopri5`: adaptive Dormand-Prince 5(4), PI step-size control (Hairer & Wanner, DOPRI5
-constants), FSAL, dense output at the requested times (steps are never shortened to hit the
-output grid). `rk4`: classical fixed step, with the step fitted to the output grid. Both
-can apply mass-weighted coordinate projection (physics.md d.4) after accepted steps.
+`erk54`: adaptive explicit 7-stage FSAL Runge-Kutta 5(4) pair given by its tableau
+(tableau.py: Dormand-Prince "dopri5" or Tsitouras "tsit5"), PI step-size control (Hairer &
+Wanner, DOPRI5 constants, for both pairs), dense output at the requested times (steps are
+never shortened to hit the output grid). `rk4`: classical fixed step, with the step fitted to
+the output grid. Both can apply mass-weighted coordinate projection (physics.md d.4) after
+accepted steps.
 
 Status codes (also in `Status`): 0 done, 1 singular constraint matrix, 2 step size
 underflow, 3 too many steps, 4 non-finite state.
@@ -20,7 +22,6 @@ from numba import njit
 from clearance.dynamics.rhs import constraint_rows, rhs
 from clearance.dynamics.solve import solve_constrained
 from clearance.integrate.events import interpolate, locate_event, update_contacts
-from clearance.integrate.tableau import DP5_A, DP5_C, DP5_E
 from clearance.kinematics.rotations import quat_rotate_body
 
 
@@ -132,12 +133,16 @@ def _finite(y):
 
 
 @njit(cache=True, error_model="numpy")
-def dopri5(
+def erk54(
     model,
     wk,
     alpha,
     beta,
     solver,
+    A,
+    C,
+    E,
+    P,
     t0,
     y0,
     t_out,
@@ -154,6 +159,9 @@ def dopri5(
     stats,
 ):
     """Integrate from (t0, y0) and write y at the times t_out into Y (n_out, ny).
+
+    (A, C, E, P): the pair's tableau (tableau.py layout; A[6] = b, b_7 = 0, so stage 7 is
+    f at the new solution, FSAL); E gives the error estimate, P the dense output.
 
     proj_tol > 0 enables coordinate projection after each accepted step. Contact events of
     clearance joints are located on the dense output and the step is cut there (events.py);
@@ -217,7 +225,7 @@ def dopri5(
         else:
             h1 = (0.01 / max(d1, d2)) ** 0.2
         h = min(100 * h, h1, hmax, t_end - t0)
-    # PI controller constants (DOPRI5): expo1 = 0.2 - 0.75 beta_pi
+    # PI controller constants (DOPRI5's, used for both pairs): expo1 = 0.2 - 0.75 beta_pi
     beta_pi = 0.04
     expo1 = 0.2 - 0.75 * beta_pi
     safe = 0.9
@@ -236,16 +244,16 @@ def dopri5(
         for s in range(1, 7):
             # ytmp = y + h sum_k a_sk K_k, summed over k in order for each entry (the loops
             # over the entries vectorise; the sums are those of a per-entry loop to the bit)
-            a = DP5_A[s, 0]
+            a = A[s, 0]
             for i in range(ny):
                 ytmp[i] = a * K[0, i]
             for k in range(1, s):
-                a = DP5_A[s, k]
+                a = A[s, k]
                 for i in range(ny):
                     ytmp[i] += a * K[k, i]
             for i in range(ny):
                 ytmp[i] = y[i] + h * ytmp[i]
-            st = rhs(t + DP5_C[s] * h, ytmp, model, wk, alpha, beta, solver, K[s])
+            st = rhs(t + C[s] * h, ytmp, model, wk, alpha, beta, solver, K[s])
             stats[ST_NFEV] += 1
             if st != 0:
                 bad = True
@@ -254,9 +262,9 @@ def dopri5(
         if not bad:
             for i in range(ny):
                 ynew[i] = ytmp[i]  # stage 7 is evaluated at the 5th-order solution (FSAL)
-                err[i] = DP5_E[0] * K[0, i]
+                err[i] = E[0] * K[0, i]
             for k in range(1, 7):
-                e = DP5_E[k]
+                e = E[k]
                 for i in range(ny):
                     err[i] += e * K[k, i]
             for i in range(ny):
@@ -281,16 +289,16 @@ def dopri5(
             # contact events inside the step: cut the step at the earliest one
             xev = 2.0
             if model.nclr > 0:
-                xev, _ = locate_event(model, wk, t, y, K, h)
+                xev, _ = locate_event(model, wk, t, y, K, P, h)
             if xev <= 1.0:
-                interpolate(y, K, h, xev, ynew)
+                interpolate(y, K, P, h, xev, ynew)
                 tnew = t + xev * h
                 stats[ST_NEVT] += 1
             else:
                 tnew = t + h
             # dense output for every requested time in (t, tnew]
             while iout < nout and t_out[iout] <= tnew:
-                interpolate(y, K, h, (t_out[iout] - t) / h, Y[iout])
+                interpolate(y, K, P, h, (t_out[iout] - t) / h, Y[iout])
                 if proj_tol > 0.0:
                     # the interpolant is off the manifold by its own error: project samples too
                     st = project(model, wk, t_out[iout], Y[iout], solver, proj_tol, 3)

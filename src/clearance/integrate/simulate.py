@@ -26,17 +26,32 @@ from clearance.integrate.loops import (
     ST_NREJ,
     STATUS_MESSAGE,
     Status,
-    dopri5,
+    erk54,
     rk4,
 )
 from clearance.integrate.post import post_process
 from clearance.integrate.result import Result
+from clearance.integrate.tableau import (
+    DP5_A,
+    DP5_C,
+    DP5_E,
+    DP5_P,
+    TS5_A,
+    TS5_C,
+    TS5_E,
+    TS5_P,
+)
 from clearance.kinematics.analysis import assemble, rank_check, velocity_analysis
 from clearance.model.drivers import DistanceDriver
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
 
-METHODS = ("dopri5", "rk4")
+METHODS = ("dopri5", "tsit5", "rk4")
+# the adaptive 5(4) pairs run by `erk54`: (A, C, E, P)
+_PAIRS = {
+    "dopri5": (DP5_A, DP5_C, DP5_E, DP5_P),
+    "tsit5": (TS5_A, TS5_C, TS5_E, TS5_P),
+}
 
 
 def _solver_code(c: Compiled, solver: str, y: np.ndarray, t: float) -> int:
@@ -116,13 +131,15 @@ def simulate(
     """Simulate a mechanism from t_start to t_end.
 
     Output at `t_out`, or every `dt_out` (default: 201 samples). method: "dopri5"
-    (adaptive, rtol/atol, first_step, max_step, min_step, max_steps) or "rk4" (fixed `step`).
+    (Dormand-Prince 5(4)) or "tsit5" (Tsitouras 5(4)), both adaptive (rtol/atol, first_step,
+    max_step, min_step, max_steps) with dense output, or "rk4" (fixed `step`).
     baumgarte: (alpha, beta) [1/s]; solver: "auto" (Schur; least squares if the constraints
     are redundant), "schur", "dense", "lstsq"; projection: mass-weighted coordinate
     projection after every accepted step. Contact onsets and separations of clearance joints
-    are located (DOPRI5) and logged (up to max_events). The initial state is assembled and
-    its velocities made consistent unless assemble_positions=False. A failure returns the
-    partial result with status != 0 and a message.
+    are located (dopri5, tsit5: on the dense output) and logged (up to max_events). The
+    initial state is assembled and its velocities made consistent unless
+    assemble_positions=False. A failure returns the partial result with status != 0 and a
+    message.
     """
     c = system if isinstance(system, Compiled) else compile_mechanism(system)
     if method not in METHODS:
@@ -158,13 +175,18 @@ def simulate(
     stats = np.zeros(NSTATS)
     ptol = float(projection_tol) if projection else 0.0
     wall0 = _time.perf_counter()
-    if method == "dopri5":
-        status, nout, t_reached, nlog = dopri5(
+    if method in _PAIRS:
+        A, C, E, P = _PAIRS[method]
+        status, nout, t_reached, nlog = erk54(
             c.model,
             wk,
             alpha,
             beta,
             code,
+            A,
+            C,
+            E,
+            P,
             float(t_start),
             y,
             t_out,

@@ -166,8 +166,8 @@ JOINT_TABLES = ("normal", "friction", "ball_material", "socket_material")
 MATERIAL_FIELDS = ("E", "nu")
 SOLVER_FIELDS = {
     "method": Field("choice", "dopri5", doc="integrator", choices=_ENUMS["method"]),
-    "rtol": Field("positive", 1e-6, doc="relative tolerance (dopri5)"),
-    "atol": Field("positive", 1e-9, doc="absolute tolerance (dopri5)"),
+    "rtol": Field("positive", 1e-6, doc="relative tolerance (dopri5, tsit5)"),
+    "atol": Field("positive", 1e-9, doc="absolute tolerance (dopri5, tsit5)"),
     "first_step": Field("nonneg", 0.0, "s", "first step (0: automatic)"),
     "max_step": Field("positive_inf", math.inf, "s", "largest step (inf: no limit)"),
     "min_step": Field("positive", 1e-14, "s", "smallest step before failure"),
@@ -314,7 +314,8 @@ class Scenario:
         if joints:
             jt += f" ({', '.join(joints)})"
         sv = self.solver
-        tol = f"rtol {sv.rtol:g}, atol {sv.atol:g}" if sv.method == "dopri5" else f"h {sv.step:g}"
+        adaptive = sv.method in ("dopri5", "tsit5")
+        tol = f"rtol {sv.rtol:g}, atol {sv.atol:g}" if adaptive else f"h {sv.step:g}"
         return (
             f"scenario '{self.name}': {self.mechanism.type.value}, {jt}, "
             f"{self.trajectory.shape.value} {self.trajectory.duration:g} s, {sv.method} {tol}"
