@@ -94,7 +94,7 @@ def test_shipped_files_validate() -> None:
     assert tr.shape is TrajectoryShape.REST_TO_REST and tr.duration == 2.0 == tr.period
     assert tr.amplitude == {"x": 0.02, "y": 0.02, "z": 0.03, "alpha": 0.05, "beta": 0.05}
     kw = s.solver.simulate_kwargs()
-    assert kw["method"] == "dopri5" and kw["rtol"] == 1e-6 and kw["atol"] == 1e-9
+    assert kw["method"] == "tsit5" and kw["rtol"] == 1e-6 and kw["atol"] == 1e-9
     assert kw["baumgarte"] == (5.0, 5.0) and kw["dt_out"] == 1e-4
 
     p = load_scenario(default_scenario_path("sps_cu"))
