@@ -123,7 +123,7 @@ def test_dataset_to_arrays_restores_result(results, datasets, group):
     arr = dataset_to_arrays(datasets[group])
     for k in (
         "t q v a lam phi phi_dot reaction_force reaction_moment driver_force "
-        "contact contact_state dissipation bristle events"
+        "contact contact_state dissipation bristle events contact_peaks"
     ).split():
         np.testing.assert_array_equal(arr[k], getattr(r, k), err_msg=k)
     assert arr["energy"].keys() == r.energy.keys()

@@ -19,6 +19,7 @@ from enum import IntEnum
 import numpy as np
 from numba import njit
 
+from clearance.contact.joint import CO_DELTA, CO_FN
 from clearance.dynamics.rhs import constraint_rows, rhs
 from clearance.dynamics.solve import solve_constrained
 from clearance.integrate.events import interpolate, locate_event, update_contacts
@@ -157,6 +158,7 @@ def erk54(
     CS,
     log,
     stats,
+    PK,
 ):
     """Integrate from (t0, y0) and write y at the times t_out into Y (n_out, ny).
 
@@ -166,7 +168,9 @@ def erk54(
     proj_tol > 0 enables coordinate projection after each accepted step. Contact events of
     clearance joints are located on the dense output and the step is cut there (events.py);
     CS (n_out, nclr, 2) receives the discrete contact state (flag, delta_dot_minus) valid at
-    each output, `log` the events. Returns (status, outputs written, last time, events).
+    each output, `log` the events, PK (nclr, 4) the largest normal force and penetration
+    at the accepted steps (see _track_peaks). Returns (status, outputs written, last time,
+    events).
     """
     ny = y0.shape[0]
     nerr = 13 * model.nb + 3 * model.nclr  # the work integrals do not steer the step size
@@ -198,6 +202,7 @@ def erk54(
     stats[ST_NFEV] += 1
     if st != 0:
         return 1, iout, t, nlog
+    _track_peaks(wk, t, PK, True)
     # initial step (Hairer & Wanner I, II.4)
     h = h0
     if h <= 0.0:
@@ -332,6 +337,8 @@ def erk54(
             else:
                 for i in range(ny):
                     K[0, i] = K[6, i]  # FSAL
+            # the last evaluation was f(t, y): stage 7 at the new solution, or the re-evaluation
+            _track_peaks(wk, t, PK, False)
             if rejected:
                 hnew = min(hnew, h)
             rejected = False
@@ -345,6 +352,23 @@ def erk54(
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _track_peaks(wk, t, PK, first):
+    """PK[k] = (largest F_N, its time, largest delta, its time) of clearance joint k over the
+    states seen so far, from the diagnostics wk.cout of the last evaluation, which must be
+    f(t, y) on the solution. Impacts last ~10-20 steps, so the accepted steps resolve a peak
+    that an output grid coarser than the impact can miss entirely. first: reset."""
+    for k in range(wk.cout.shape[0]):
+        fn = wk.cout[k, CO_FN]
+        d = wk.cout[k, CO_DELTA]
+        if first or fn > PK[k, 0]:
+            PK[k, 0] = fn
+            PK[k, 1] = t
+        if first or d > PK[k, 2]:
+            PK[k, 2] = d
+            PK[k, 3] = t
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _record(wk, CS, iout):
     for k in range(wk.cflag.shape[0]):
         CS[iout, k, 0] = wk.cflag[k]
@@ -352,8 +376,10 @@ def _record(wk, CS, iout):
 
 
 @njit(cache=True, error_model="numpy")
-def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, CS, log, stats):
+def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, CS, log, stats, PK):
     """Classical RK4; between consecutive output times the step is dt/ceil(dt/h) <= h.
+    PK: peaks at the step starts (see _track_peaks; the last state is covered by the
+    outputs).
 
     Contact events are not localised: the discrete contact state is updated at the end of
     each step (first-order capture of delta_dot_minus, physics.md f.5)."""
@@ -385,6 +411,7 @@ def rk4(model, wk, alpha, beta, solver, t0, y0, t_out, h, proj_tol, Y, CS, log, 
         hs = dt / n
         for _ in range(n):
             st = rhs(t, y, model, wk, alpha, beta, solver, k1)
+            _track_peaks(wk, t, PK, stats[ST_NFEV] == 0.0)
             for i in range(ny):
                 ytmp[i] = y[i] + 0.5 * hs * k1[i]
             st |= rhs(t + 0.5 * hs, ytmp, model, wk, alpha, beta, solver, k2)

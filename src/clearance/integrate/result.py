@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -65,6 +66,10 @@ class Result:
     dissipation: np.ndarray = field(default=None, repr=False)  # (n, nclr, 2) D_n, D_t [J]
     bristle: np.ndarray = field(default=None, repr=False)  # (n, nclr, 3) LuGre z [m]
     events: np.ndarray = field(default=None, repr=False)  # (nevents, 7) contact event log
+    # (nclr, 4) largest F_N [N], its time [s], largest delta [m], its time, over the accepted
+    # integration steps and the samples: impacts shorter than the output interval are
+    # resolved here, not on the output grid
+    contact_peaks: np.ndarray = field(default=None, repr=False)
 
     @property
     def success(self) -> bool:
@@ -153,6 +158,26 @@ class Result:
         """(n, 3) tangential slip velocity v_t of the ball relative to the socket [m/s]."""
         return self.contact[:, self._c(name), CO_VT : CO_VT + 3]
 
+    def _peak(self, name: str, col: int, src: int) -> tuple[float, float]:
+        k = self._c(name)
+        if self.contact_peaks is not None:
+            return float(self.contact_peaks[k, col]), float(self.contact_peaks[k, col + 1])
+        x = self.contact[:, k, src]  # results saved without peaks: the output grid only
+        if x.size == 0:
+            return 0.0, math.nan
+        i = int(np.argmax(x))
+        return float(x[i]), float(self.t[i])
+
+    def peak_contact_force(self, name: str) -> tuple[float, float]:
+        """(F_N, t): the largest normal contact force [N] and its time [s], over the accepted
+        integration steps as well as the samples (an impact can be shorter than dt_out)."""
+        return self._peak(name, 0, CO_FN)
+
+    def peak_penetration(self, name: str) -> tuple[float, float]:
+        """(delta, t): the largest penetration [m] (negative if never in contact) and its
+        time, over the accepted steps and the samples."""
+        return self._peak(name, 2, CO_DELTA)
+
     def in_contact(self, name: str) -> np.ndarray:
         """(n,) bool: delta > 0 at the sample."""
         return self.penetration(name) > 0.0
@@ -185,12 +210,12 @@ class Result:
                 f"max |phi| = {np.max(np.abs(self.phi)):.3e}, "
                 f"max |phi_dot| = {np.max(np.abs(self.phi_dot)):.3e}"
             )
-        for k, name in enumerate(self.clearance_names):
-            fn = self.contact[:, k, CO_FN]
+        for name in self.clearance_names:
+            fn, tf = self.peak_contact_force(name)
+            d, _ = self.peak_penetration(name)
             lines.append(
-                f"clearance {name}: peak F_N {fn.max() if fn.size else 0:.4g} N, "
-                f"{len(self.impacts(name))} impacts, max penetration "
-                f"{max(0.0, float(self.contact[:, k, CO_DELTA].max())):.3g} m"
+                f"clearance {name}: peak F_N {fn:.4g} N at t = {tf:.6g} s, "
+                f"{len(self.impacts(name))} impacts, max penetration {max(0.0, d):.3g} m"
             )
         if self.t.size:
             scale = max(1e-300, float(np.max(np.abs(e["kinetic"]) + np.abs(e["potential"]))))

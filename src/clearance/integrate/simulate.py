@@ -10,7 +10,7 @@ import time as _time
 import numpy as np
 
 from clearance.compile.compiled import NWORK, Compiled, compile_mechanism
-from clearance.contact.joint import NCOUT
+from clearance.contact.joint import CO_DELTA, CO_FN, NCOUT
 from clearance.dynamics.rhs import make_work, rhs
 from clearance.dynamics.solve import Solver
 from clearance.integrate.events import NLOG
@@ -173,6 +173,7 @@ def simulate(
     CS = np.zeros((t_out.size, c.nclr, 2))
     log = np.zeros((max_events if c.nclr else 0, NLOG))
     stats = np.zeros(NSTATS)
+    PK = np.zeros((c.nclr, 4))
     ptol = float(projection_tol) if projection else 0.0
     wall0 = _time.perf_counter()
     if method in _PAIRS:
@@ -201,6 +202,7 @@ def simulate(
             CS,
             log,
             stats,
+            PK,
         )
     else:
         status, nout, t_reached, nlog = rk4(
@@ -218,6 +220,7 @@ def simulate(
             CS,
             log,
             stats,
+            PK,
         )
     wall = _time.perf_counter() - wall0
     message = STATUS_MESSAGE[Status(status)]
@@ -231,6 +234,7 @@ def simulate(
         Y[:nout],
         CS[:nout],
         log[: min(nlog, log.shape[0])],
+        PK,
         wk,
         alpha,
         beta,
@@ -255,7 +259,7 @@ def simulate(
 
 
 def _build_result(
-    c: Compiled, ts, Y, CS, log, wk, alpha, beta, code, stats, wall, status, message, settings
+    c: Compiled, ts, Y, CS, log, PK, wk, alpha, beta, code, stats, wall, status, message, settings
 ) -> Result:
     n = ts.size
     m = c.nrow
@@ -346,6 +350,14 @@ def _build_result(
         friction=Dt.sum(axis=1),
         residual=resid,
     )
+    # peaks over the accepted steps and the output samples (interpolated states)
+    peaks = PK.copy()
+    for k in range(c.nclr if n else 0):
+        for col, src in ((0, CO_FN), (2, CO_DELTA)):
+            i = int(np.argmax(COUT[:, k, src]))
+            if COUT[i, k, src] > peaks[k, col]:
+                peaks[k, col] = COUT[i, k, src]
+                peaks[k, col + 1] = ts[i]
     st = dict(
         nfev=int(stats[ST_NFEV]),
         naccept=int(stats[ST_NACC]),
@@ -387,6 +399,7 @@ def _build_result(
         dissipation=np.stack([Dn, Dt], axis=-1),
         bristle=Y[:, c.iz : c.iw].reshape(n, c.nclr, 3).copy(),
         events=log.copy(),
+        contact_peaks=peaks,
     )
 
 

@@ -320,6 +320,19 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
         dissipation_friction=_var(tc, dis[:, :, 1], "J", "friction work D_t", "cumulative"),
         bristle=_var(tca, br, "m", "LuGre bristle deflection z", "world frame"),
     )
+    if result.contact_peaks is not None:
+        pk = np.asarray(result.contact_peaks, dtype=float)
+        resolved = "over the accepted integration steps and the samples"
+        dv.update(
+            peak_contact_force=_var(
+                ("clearance",), pk[:, 0], "N", "largest normal contact force F_N", resolved
+            ),
+            peak_contact_force_time=_var(("clearance",), pk[:, 1], "s", "time of the largest F_N"),
+            peak_penetration=_var(("clearance",), pk[:, 2], "m", "largest penetration", resolved),
+            peak_penetration_time=_var(
+                ("clearance",), pk[:, 3], "s", "time of the largest penetration"
+            ),
+        )
     ev = result.events if result.events is not None else np.zeros((0, 7))
     jidx = ev[:, 1].astype(np.int64)
     dv.update(
@@ -436,7 +449,8 @@ def dataset_to_arrays(ds: xr.Dataset) -> dict:
 
     Keys: t, q, v, a, lam, phi, phi_dot, reaction_force, reaction_moment, driver_force,
     energy (dict), contact (n, nclr, NCOUT; the elastic/normal/friction columns restored),
-    contact_state, dissipation, bristle, events (nevents, 7), and the names body_names,
+    contact_state, dissipation, bristle, events (nevents, 7), contact_peaks (nclr, 4; None in
+    files written before it existed), and the names body_names,
     blocks, reaction_body, driver_names, clearance_names; status, message, settings (dict),
     stats (dict).
     """
@@ -484,6 +498,18 @@ def dataset_to_arrays(ds: xr.Dataset) -> dict:
         dissipation=np.stack([g["dissipation_damping"], g["dissipation_friction"]], axis=-1),
         bristle=g["bristle"],
         events=ev,
+        contact_peaks=(
+            np.column_stack(
+                [
+                    g["peak_contact_force"],
+                    g["peak_contact_force_time"],
+                    g["peak_penetration"],
+                    g["peak_penetration_time"],
+                ]
+            )
+            if "peak_contact_force" in g
+            else None
+        ),
         body_names=tuple(str(s) for s in g["body"]),
         blocks=tuple(str(s) for s in g["block"]),
         reaction_body=tuple(str(s) for s in g["reaction_body"]),
