@@ -13,6 +13,7 @@ from clearance.compile.compiled import NWORK, Compiled, compile_mechanism
 from clearance.contact.joint import CO_DELTA, CO_FN, NCOUT
 from clearance.dynamics.rhs import make_work, rhs
 from clearance.dynamics.solve import Solver
+from clearance.integrate.buffers import prefaulted_copy, prefaulted_zeros
 from clearance.integrate.events import NLOG
 from clearance.integrate.loops import (
     NSTATS,
@@ -169,7 +170,7 @@ def simulate(
     code = _solver_code(c, solver, y, t_start)
     alpha, beta = (float(x) for x in baumgarte)
     wk = make_work(c.model)
-    Y = np.zeros((t_out.size, c.ny))
+    Y = prefaulted_zeros((t_out.size, c.ny))
     CS = np.zeros((t_out.size, c.nclr, 2))
     log = np.zeros((max_events if c.nclr else 0, NLOG))
     stats = np.zeros(NSTATS)
@@ -272,14 +273,14 @@ def _build_result(
     mech = c.mechanism
     for k, b in enumerate(blocks):
         blk_pt[k] = _block_point(mech, b.name, blk_side[k])
-    VD = np.zeros((n, c.nv))
-    LAM = np.zeros((n, m))
-    PHI = np.zeros((n, m))
-    PHID = np.zeros((n, m))
+    VD = prefaulted_zeros((n, c.nv))
+    LAM = prefaulted_zeros((n, m))
+    PHI = prefaulted_zeros((n, m))
+    PHID = prefaulted_zeros((n, m))
     EN = np.zeros((n, 3))
-    RF = np.zeros((n, nbk, 3))
-    RM = np.zeros((n, nbk, 3))
-    COUT = np.zeros((n, c.nclr, NCOUT))
+    RF = prefaulted_zeros((n, nbk, 3))
+    RM = prefaulted_zeros((n, nbk, 3))
+    COUT = prefaulted_zeros((n, c.nclr, NCOUT))
     if n:
         post_process(
             c.model,
@@ -372,8 +373,8 @@ def _build_result(
     return Result(
         compiled=c,
         t=ts.copy(),
-        q=Y[:, : c.nq].copy(),
-        v=Y[:, c.nq : c.nq + c.nv].copy(),
+        q=prefaulted_copy(Y[:, : c.nq]),
+        v=prefaulted_copy(Y[:, c.nq : c.nq + c.nv]),
         a=VD,
         lam=LAM,
         phi=PHI,
