@@ -159,6 +159,32 @@ def test_netcdf_roundtrip(saved, datasets):
     assert sorted(os.listdir(saved.parent)) == ["results.nc"]  # no temporary file left
 
 
+@pytest.mark.parametrize("level", [0, 1, 6])
+def test_netcdf_compression_level(datasets, tmp_path, level):
+    """complevel 0 writes no filter; otherwise shuffle + zlib at that level; the data
+    round-trips either way; a rewrite of loaded data applies the new level, not the file's."""
+    import h5py
+
+    src = tmp_path / "a.nc"
+    save_results(src, datasets, complevel=4)
+    path = tmp_path / f"l{level}.nc"
+    save_results(path, load_results(src), complevel=level)
+    with h5py.File(path) as f:
+        v = f["clearance/position"]
+        assert v.compression == ("gzip" if level else None)
+        assert v.compression_opts == (level if level else None) and v.shuffle == bool(level)
+    back = load_results(path)
+    for g, ds in datasets.items():
+        xr.testing.assert_identical(back[g], ds)
+
+
+@pytest.mark.parametrize("bad", [-1, 10, 1.5, True, "1"])
+def test_netcdf_compression_level_validated(datasets, tmp_path, bad):
+    with pytest.raises(ValueError, match="complevel"):
+        save_results(tmp_path / "x.nc", datasets, complevel=bad)
+    assert not os.listdir(tmp_path)
+
+
 def test_netcdf_write_is_atomic(saved, datasets, monkeypatch):
     before = saved.read_bytes()
     calls = {"n": 0}

@@ -542,15 +542,25 @@ def save_results(
     datasets: Mapping[str, xr.Dataset | Result],
     *,
     attrs: Mapping | None = None,
+    complevel: int = 1,
 ) -> Path:
     """Write `datasets` (group name -> Dataset) to ONE NetCDF4 file, atomically.
 
     A `Result` value is converted with `result_to_dataset` first (no extra attrs).
     Each dataset becomes a group; the root holds `attrs` plus clearance_version, created and
-    groups (JSON list of the group names, in order). Data variables are zlib-compressed.
+    groups (JSON list of the group names, in order). Numeric data variables are compressed
+    with the byte-shuffle filter and zlib at `complevel` (0: uncompressed). Level 1 is the
+    default: on the default scenario's clearance group (104 MB of arrays) it writes 69.5 MB
+    in 1.7 s, where level 4 without shuffle wrote 77 MB in 2.8 s and no compression 104 MB
+    in 0.6 s (float64 histories barely compress without the shuffle).
     If anything fails, an existing file at `path` is left as it was.
     """
     import clearance
+
+    if isinstance(complevel, bool) or not isinstance(complevel, int) or not 0 <= complevel <= 9:
+        raise ValueError(
+            f"save_results: complevel = {complevel!r} is invalid; expected an integer 0..9"
+        )
 
     names = [_check_group(k) for k in datasets]
     root = {
@@ -566,10 +576,12 @@ def save_results(
             ds = datasets[name]
             ds = result_to_dataset(ds) if isinstance(ds, Result) else ds.copy()
             ds.attrs = clean_attrs(ds.attrs)
+            ds = ds.drop_encoding()  # a dataset read from a file keeps that file's filters
+            comp = {"zlib": True, "complevel": complevel, "shuffle": True} if complevel else {}
             enc = {
-                k: {"zlib": True, "complevel": 4}
+                k: comp
                 for k, var in ds.data_vars.items()
-                if var.size and var.dtype.kind in "iuf"
+                if comp and var.size and var.dtype.kind in "iuf"
             }
             ds.to_netcdf(tmp, mode="a", group=name, engine=ENGINE, encoding=enc)
     return path
