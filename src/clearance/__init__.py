@@ -4,6 +4,12 @@ Public API (re-exports only). Pipeline: describe (`Mechanism` of bodies, markers
 drivers, forces) -> `compile_mechanism` -> `simulate` -> `Result`.
 """
 
+from clearance import _kernel_cache
+
+# the compiled-kernel cache is keyed by the kernel sources (see _kernel_cache); every module
+# with a kernel is imported below, while the cache location is set
+_prev_cache_dir = _kernel_cache.configure()
+
 from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.integrate.result import Result
 from clearance.integrate.simulate import initial_state, scipy_rhs, simulate
@@ -126,3 +132,5 @@ __all__ = [
     "LuGre",
     "__version__",
 ]
+
+_kernel_cache.restore(_prev_cache_dir)

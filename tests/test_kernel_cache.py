@@ -1,0 +1,56 @@
+"""The compiled-kernel cache is keyed by the kernel sources: a change to any module a kernel
+can reach starts a fresh cache (numba alone would keep stale callers of an edited callee)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from numba.core import config
+
+from clearance import _kernel_cache
+from clearance.dynamics.rhs import rhs
+from clearance.integrate.loops import erk54
+
+
+def test_kernels_cache_under_the_source_keyed_directory():
+    d = str(_kernel_cache.cache_dir())
+    assert _kernel_cache.source_hash() in d
+    for fn in (rhs, erk54):
+        assert fn._cache._cache_path.startswith(d), fn
+    assert config.CACHE_DIR != d  # numba's global setting was restored after the imports
+
+
+def _tree(root: Path) -> None:
+    for rel, text in {
+        "dynamics/k.py": "x = 1\n",
+        "plot/f.py": "y = 1\n",
+        "pipeline.py": "z = 1\n",
+    }.items():
+        p = root / rel
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_text(text)
+
+
+def test_hash_follows_kernel_sources_only(tmp_path):
+    _tree(tmp_path)
+    h0 = _kernel_cache.source_hash(tmp_path)
+    (tmp_path / "plot/f.py").write_text("y = 2\n")
+    (tmp_path / "pipeline.py").write_text("z = 2\n")
+    assert _kernel_cache.source_hash(tmp_path) == h0  # no kernels there
+    (tmp_path / "dynamics/k.py").write_text("x = 2\n")
+    h1 = _kernel_cache.source_hash(tmp_path)
+    assert h1 != h0
+    (tmp_path / "dynamics/new.py").write_text("")
+    assert _kernel_cache.source_hash(tmp_path) != h1  # a new module counts too
+
+
+def test_cache_location_from_the_environment(tmp_path, monkeypatch):
+    monkeypatch.setenv("CLEARANCE_CACHE_DIR", str(tmp_path / "c"))
+    d = _kernel_cache.cache_dir()
+    assert d.parent == tmp_path / "c" and d.name.endswith(_kernel_cache.source_hash())
+    monkeypatch.delenv("CLEARANCE_CACHE_DIR")
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "n"))
+    assert _kernel_cache.cache_dir().parent == tmp_path / "n"
+    monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "x"))
+    assert _kernel_cache.cache_dir().parent == tmp_path / "x" / "clearance"
