@@ -15,7 +15,7 @@ ds, ...}, see `clearance.io.dataset`) and writes, each as PNG and PDF (atomicall
 * `contact_force`: |F_N| [N] vs time, one panel per clearance joint, runs overlaid.
 * `ball_trajectory_<joint>`: ball centre relative to the socket centre in the socket frame
   [mm]: a 3-D curve inside the wire sphere of radius c, and the x-y, x-z, y-z projections
-  with the clearance circle; samples in contact marked.
+  with the clearance circle; the stretches in contact drawn in red.
 * `actuator_forces`: the actuator force of each driver row [N], runs overlaid.
 
 Uses the Figure API (no pyplot), so no global backend is changed and nothing opens a window.
@@ -226,11 +226,18 @@ def plot_ball_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> Figu
         on = ds["penetration"].sel(clearance=joint).values > 0
         st = dict(sty[name])
         st.pop("zorder")
+        # the in-contact stretches as one red path with breaks (NaN) between them: a dot per
+        # sample in contact (~19 000 of 20 001 in the default scenario) made 0.8 MB PDFs
+        ec = np.where(on[:, None], e, np.nan)
+        # a contact seen by one sample only has no stretch to draw: mark it with a dot
+        alone = on & ~np.r_[False, on[:-1]] & ~np.r_[on[1:], False]
         ax3.plot(e[:, 0], e[:, 1], e[:, 2], label=name, **st)
-        ax3.plot(e[on, 0], e[on, 1], e[on, 2], ".", color="C3", markersize=2.5, label="_")
+        ax3.plot(ec[:, 0], ec[:, 1], ec[:, 2], "-", color="C3", linewidth=1.6, label="_")
+        ax3.plot(*e[alone].T, ".", color="C3", markersize=3, label="_")
         for ax, i0, i1 in proj:
             ax.plot(e[:, i0], e[:, i1], label=name, **st)
-            ax.plot(e[on, i0], e[on, i1], ".", color="C3", markersize=2.5, label="_")
+            ax.plot(ec[:, i0], ec[:, i1], "-", color="C3", linewidth=1.6, label="_")
+            ax.plot(e[alone, i0], e[alone, i1], ".", color="C3", markersize=3, label="_")
             if e.shape[0]:
                 ax.plot(e[0, i0], e[0, i1], "o", color=st["color"], markersize=4, mfc="none")
     for ax, i0, i1 in proj:
@@ -248,7 +255,7 @@ def plot_ball_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> Figu
     ax3.set_zlabel("$e_z$ [mm]", labelpad=-4)
     fig.get_layout_engine().set(w_pad=0.15, wspace=0.12)
     ax3.tick_params(labelsize=7, pad=0)
-    proj[0][0].plot([], [], ".", color="C3", label="in contact")
+    proj[0][0].plot([], [], "-", color="C3", linewidth=1.6, label="in contact")
     proj[0][0].plot([], [], "--", color="0.4", label=f"clearance c = {c:.3g} mm")
     proj[0][0].legend(loc="upper right", frameon=True, fontsize=7, framealpha=0.8)
     fig.suptitle(f"Ball centre in the socket of {joint} (socket frame)", fontsize=10)
