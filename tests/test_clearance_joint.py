@@ -240,6 +240,25 @@ TABLE = {
 }
 
 
+def head_on_impact(normal, v0):
+    """Two free bodies without gravity (socket body A 2 kg, ball body B 1 kg, m_eff = 2/3 kg),
+    the ball at the socket centre flying at v0 along x: a central impact at t = c / v0."""
+    m = cl.Mechanism("impact", gravity=(0, 0, 0))
+    m.add(
+        cl.Body("A", 2.0, (0.02, 0.02, 0.02)),
+        cl.Body("B", 1.0, (0.01, 0.01, 0.01), velocity=(v0, 0, 0)),
+        cl.Marker("sock", "A"),
+        cl.Marker("ball", "B"),
+        cl.Spherical(
+            "S",
+            "sock",
+            "ball",
+            clearance=Clearance(ball_radius=RB, radial_clearance=C, normal=normal),
+        ),
+    )
+    return cl.compile_mechanism(m)
+
+
 @pytest.mark.parametrize("method", ["dopri5", "tsit5"])
 @pytest.mark.parametrize("law", list(TABLE))
 def test_single_impact_restitution(law, method):
@@ -247,20 +266,7 @@ def test_single_impact_restitution(law, method):
     normal relative velocity after the impact over before equals the g.2 table (the value is
     independent of K, m and v-). Tolerance 2e-3: the table's 4 digits plus the stiffness of
     the socket curvature (the 1-DOF table assumes a flat normal)."""
-    m = cl.Mechanism("impact", gravity=(0, 0, 0))
-    m.add(
-        cl.Body("A", 2.0, (0.02, 0.02, 0.02)),
-        cl.Body("B", 1.0, (0.01, 0.01, 0.01), velocity=(0.1, 0, 0)),
-        cl.Marker("sock", "A"),
-        cl.Marker("ball", "B"),
-        cl.Spherical(
-            "S",
-            "sock",
-            "ball",
-            clearance=Clearance(ball_radius=RB, radial_clearance=C, normal=law(restitution=0.9)),
-        ),
-    )
-    c = cl.compile_mechanism(m)
+    c = head_on_impact(law(restitution=0.9), 0.1)
     r = cl.simulate(c, 0.006, dt_out=1e-5, method=method, rtol=1e-10, atol=1e-13)
     ev = r.events
     assert ev.shape[0] >= 2 and ev[0, 2] == 1 and ev[1, 2] == -1
@@ -358,22 +364,7 @@ def test_peak_contact_force_is_resolved_between_samples(method):
     F_max = K delta_max^n (m = 2/3 kg, v = 0.1 m/s, K = 1e11 N/m^1.5: delta_max = 7.7 um,
     contact ~0.25 ms, onset at c / v = 3 ms; samples every 0.7 ms miss it)."""
     K, n, v0, m_eff = 1e11, 1.5, 0.1, 2.0 / 3.0
-    m = cl.Mechanism("impact", gravity=(0, 0, 0))
-    m.add(
-        cl.Body("A", 2.0, (0.02, 0.02, 0.02)),
-        cl.Body("B", 1.0, (0.01, 0.01, 0.01), velocity=(v0, 0, 0)),
-        cl.Marker("sock", "A"),
-        cl.Marker("ball", "B"),
-        cl.Spherical(
-            "S",
-            "sock",
-            "ball",
-            clearance=Clearance(
-                ball_radius=RB, radial_clearance=C, normal=cl.Hertz(stiffness=K, exponent=n)
-            ),
-        ),
-    )
-    c = cl.compile_mechanism(m)
+    c = head_on_impact(cl.Hertz(stiffness=K, exponent=n), v0)
     kw = dict(method=method, rtol=1e-10, atol=1e-13, step=2e-6)
     coarse = cl.simulate(c, 0.0049, dt_out=7e-4, **kw)
     d_max = ((n + 1) * m_eff * v0**2 / (2 * K)) ** (1 / (n + 1))
