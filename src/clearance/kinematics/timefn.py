@@ -58,6 +58,21 @@ def encode_functions(
     return fn_kind, fn_ptr, fn_data
 
 
+@njit(cache=True, inline="always")
+def _segment(data: np.ndarray, xb: int, m: int, t: float):
+    """(tc, i): t clamped to the breakpoints data[xb:xb+m+1], and the largest segment i in
+    [0, m-1] with x_i <= tc (scipy's convention at breakpoints), by bisection."""
+    tc = min(max(t, data[xb]), data[xb + m])
+    lo, hi = 0, m - 1
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if data[xb + mid] <= tc:
+            lo = mid
+        else:
+            hi = mid - 1
+    return tc, lo
+
+
 @njit(cache=True)
 def _eval_leaf(kind: int, data: np.ndarray, start: int, stop: int, t: float):
     if kind == _CONSTANT:
@@ -104,15 +119,7 @@ def _eval_leaf(kind: int, data: np.ndarray, start: int, stop: int, t: float):
         m = int(data[start])
         xb = start + 1  # breakpoints x_0..x_m
         cb = xb + m + 1  # coefficients, 4 per segment
-        tc = min(max(t, data[xb]), data[xb + m])
-        # Largest segment i in [0, m-1] with x_i <= tc (scipy's convention at breakpoints).
-        lo, hi = 0, m - 1
-        while lo < hi:
-            mid = (lo + hi + 1) // 2
-            if data[xb + mid] <= tc:
-                lo = mid
-            else:
-                hi = mid - 1
+        tc, lo = _segment(data, xb, m, t)
         u = tc - data[xb + lo]
         c3, c2, c1, c0 = (
             data[cb + 4 * lo],
@@ -129,14 +136,7 @@ def _eval_leaf(kind: int, data: np.ndarray, start: int, stop: int, t: float):
         k = int(data[start + 1])
         xb = start + 2  # breakpoints x_0..x_m
         cb = xb + m + 1  # coefficients, k + 1 per segment, highest power first
-        tc = min(max(t, data[xb]), data[xb + m])
-        lo, hi = 0, m - 1
-        while lo < hi:
-            mid = (lo + hi + 1) // 2
-            if data[xb + mid] <= tc:
-                lo = mid
-            else:
-                hi = mid - 1
+        tc, lo = _segment(data, xb, m, t)
         u = tc - data[xb + lo]
         f = fd = fdd = 0.0
         c0 = cb + (k + 1) * lo
