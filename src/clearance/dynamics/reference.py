@@ -330,7 +330,8 @@ def constraint_rows(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """phi (m,), dense phi_q (m, 6 nb), phi_t (m,), gamma (m,), driver-row mask (m,).
 
-    Rows: joints in insertion order, then drivers in insertion order (physics.md c.3).
+    Rows: joints in insertion order (a clearance joint has none: it is a force element), then
+    drivers in insertion order (physics.md c.3).
     """
     return _rows(_Kin(mech, np.asarray(y, dtype=float)), mech, t)
 
@@ -341,6 +342,8 @@ def _rows(
     rows: list[Row] = []
     is_drv: list[bool] = []
     for jt in mech.joints.values():
+        if getattr(jt, "clearance", None) is not None:
+            continue  # a clearance joint is a force element, no rows (physics.md f)
         r = _joint_rows(kin, jt)
         rows += r
         is_drv += [False] * len(r)

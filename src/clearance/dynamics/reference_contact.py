@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import RK45, solve_ivp
 
-from clearance.dynamics.reference import _G, _applied, _driver_rows, _joint_rows, _Kin
+from clearance.dynamics.reference import _G, _applied, _Kin, _rows
 from clearance.model.contact_laws import (
     Flores,
     Gonthier,
@@ -200,32 +200,6 @@ def _contact_forces(kin, mech, joints, y, in_contact, ddm):
         dn[k] = (fn - f_el) * ct.delta_dot
         dt[k] = float(ft @ vt)
     return Q, zdot, dn, dt
-
-
-def _rows(kin: _Kin, mech: Mechanism, t: float):
-    """phi, phi_q, phi_t, gamma, driver mask: reference.py's rows without clearance joints."""
-    rows, is_drv = [], []
-    for jt in mech.joints.values():
-        if getattr(jt, "clearance", None) is not None:
-            continue  # a force element, no rows (physics.md f)
-        r = _joint_rows(kin, jt)
-        rows += r
-        is_drv += [False] * len(r)
-    for drv in mech.drivers.values():
-        r = _driver_rows(kin, mech, drv, t)
-        rows += r
-        is_drv += [True] * len(r)
-    nv = kin.nv
-    if not rows:
-        z = np.zeros(0)
-        return z, np.zeros((0, nv)), z, z, np.zeros(0, dtype=bool)
-    return (
-        np.array([r[0] for r in rows]),
-        np.array([r[1] for r in rows]).reshape(len(rows), nv),
-        np.array([r[2] for r in rows]),
-        np.array([r[3] for r in rows]),
-        np.array(is_drv),
-    )
 
 
 def _check(mech: Mechanism) -> None:
