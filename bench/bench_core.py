@@ -18,62 +18,27 @@ Run: `taskset -c 0 python bench/bench_core.py` (see bench/README.md).
 
 from __future__ import annotations
 
-import os
+# isort: off
+# _common first: it pins the thread counts, which only works before numpy is imported
+from _common import fmt_time, median_time, print_environment, rhs_loop
 
-# One thread everywhere (must precede the numpy import); an explicit setting wins.
-for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
-    os.environ.setdefault(_var, "1")
+# isort: on
+import argparse
+import statistics
+import sys
+import time
 
-import argparse  # noqa: E402
-import platform  # noqa: E402
-import statistics  # noqa: E402
-import sys  # noqa: E402
-import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
+import numpy as np
+from scipy.integrate import solve_ivp
 
-import numba  # noqa: E402
-import numpy as np  # noqa: E402
-import scipy  # noqa: E402
-from scipy.integrate import solve_ivp  # noqa: E402
-
-import clearance as cl  # noqa: E402
-from clearance.dynamics.reference import reference_rhs  # noqa: E402
-from clearance.dynamics.rhs import make_work, rhs  # noqa: E402
-from clearance.dynamics.solve import Solver  # noqa: E402
-from clearance.mechanisms.ups_upu import ups_upu_ideal  # noqa: E402
-
-
-@numba.njit(cache=True)
-def _rhs_loop(n, t, y, model, wk, alpha, beta, solver, out):  # pragma: no cover - compiled
-    """Call the kernel n times from compiled code: its cost without Python dispatch."""
-    s = 0
-    for _ in range(n):
-        s += rhs(t, y, model, wk, alpha, beta, solver, out)
-    return s
-
+import clearance as cl
+from clearance.dynamics.reference import reference_rhs
+from clearance.dynamics.rhs import make_work, rhs
+from clearance.dynamics.solve import Solver
+from clearance.mechanisms.ups_upu import ups_upu_ideal
 
 ALPHA, BETA = 5.0, 5.0  # Baumgarte [1/s] (physics.md d.2)
 RTOL, ATOL = 1e-6, 1e-9
-
-
-def median_time(fn: Callable[[], object], repeats: int, n_inner: int = 1) -> tuple[float, float]:
-    """(median, best) wall time [s] of one `fn()` call; each of `repeats` samples is the
-    mean over a loop of `n_inner` calls."""
-    samples = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(n_inner):
-            fn()
-        samples.append((time.perf_counter() - t0) / n_inner)
-    return statistics.median(samples), min(samples)
-
-
-def fmt_time(s: float) -> str:
-    if s < 1e-3:
-        return f"{s * 1e6:9.1f} us"
-    if s < 1.0:
-        return f"{s * 1e3:9.2f} ms"
-    return f"{s:9.3f} s "
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -92,17 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     t_end, reps = args.t_end, args.repeats
 
-    print("clearance core benchmark: ideal 4UPS-UPU, leg-length drivers")
-    aff = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else "?"
-    print(
-        f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
-        f"numba {numba.__version__}; CPU affinity {aff}; "
-        f"NUMBA_NUM_THREADS={os.environ.get('NUMBA_NUM_THREADS')}, "
-        f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, "
-        f"NUMBA_DISABLE_JIT={os.environ.get('NUMBA_DISABLE_JIT', '0')}"
-    )
-    if aff != "?" and len(aff) > 1:
-        print("note: not pinned to one core; use `taskset -c 0` for stable numbers")
+    print_environment("clearance core benchmark: ideal 4UPS-UPU, leg-length drivers")
 
     # ------------------------------------------------------------ build, compile, warm up
     t0 = time.perf_counter()
@@ -128,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
     rhs(0.0, y0, model, wk, ALPHA, BETA, int(Solver.DENSE), out)
     warm["rhs, dense (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    _rhs_loop(1, 0.0, y0, model, wk, ALPHA, BETA, 0, out)
+    rhs_loop(1, 0.0, y0, model, wk, ALPHA, BETA, 0, out)
     warm["rhs called from an @njit loop (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     cl.simulate(c, min(t_end, 0.01), rtol=RTOL, atol=ATOL, baumgarte=(ALPHA, BETA), solver="schur")
@@ -154,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     n_ref = max(3, int(0.5 / t_ref1))  # about 0.5 s per repeat
 
     def in_loop(solver: int, n: int) -> tuple[float, float]:
-        fn = lambda: _rhs_loop(n, 0.0, y0, model, wk, ALPHA, BETA, solver, out)  # noqa: E731
+        fn = lambda: rhs_loop(n, 0.0, y0, model, wk, ALPHA, BETA, solver, out)  # noqa: E731
         med, best = median_time(fn, reps)
         return med / n, best / n
 
@@ -244,7 +199,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"  {'build + compile_mechanism (Python)':<46s} {fmt_time(t_build)}")
     print(
         "  (numba cache=True: well under 1 s means the on-disk cache was loaded; a cold cache\n"
-        "   compiles the kernel and the integrator loops for several seconds)"
+        "   compiles the kernel and the integrator loops for several seconds; the benchmark's\n"
+        "   own @njit loop is compiled on every run, ~3 s)"
     )
     print()
     print(f"per right-hand side (state at t = 0; compiled vs NumPy agree to {agree:.1e} rel.)")

@@ -26,64 +26,30 @@ Run: `taskset -c 0 python bench/bench_scenario.py` (see bench/README.md).
 
 from __future__ import annotations
 
-import os
+# isort: off
+# _common first: it pins the thread counts, which only works before numpy is imported
+from _common import fmt_time, median_time, print_environment, rhs_loop
 
-# One thread everywhere (must precede the numpy import); an explicit setting wins.
-for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
-    os.environ.setdefault(_var, "1")
+# isort: on
+import argparse
+import statistics
+import sys
+import time
 
-import argparse  # noqa: E402
-import platform  # noqa: E402
-import statistics  # noqa: E402
-import sys  # noqa: E402
-import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
+import numpy as np
 
-import numba  # noqa: E402
-import numpy as np  # noqa: E402
-import scipy  # noqa: E402
-
-import clearance as cl  # noqa: E402
-from clearance.dynamics.reference_contact import (  # noqa: E402
+import clearance as cl
+from clearance.dynamics.reference_contact import (
     reference_rhs_clearance,
     solve_ivp_clearance,
 )
-from clearance.dynamics.rhs import make_work, rhs  # noqa: E402
-from clearance.kinematics.ik import apply_drives, drives_from_ik, inverse_kinematics  # noqa: E402
-from clearance.scenario import (  # noqa: E402
+from clearance.dynamics.rhs import make_work, rhs
+from clearance.kinematics.ik import apply_drives, drives_from_ik, inverse_kinematics
+from clearance.scenario import (
     build_mechanisms,
     default_scenario_path,
     load_scenario,
 )
-
-
-@numba.njit(cache=True)
-def _rhs_loop(n, t, y, model, wk, alpha, beta, solver, out):  # pragma: no cover - compiled
-    """Call the kernel n times from compiled code: its cost without Python dispatch."""
-    s = 0
-    for _ in range(n):
-        s += rhs(t, y, model, wk, alpha, beta, solver, out)
-    return s
-
-
-def median_time(fn: Callable[[], object], repeats: int, n_inner: int = 1) -> tuple[float, float]:
-    """(median, best) wall time [s] of one `fn()` call; each of `repeats` samples is the
-    mean over a loop of `n_inner` calls."""
-    samples = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(n_inner):
-            fn()
-        samples.append((time.perf_counter() - t0) / n_inner)
-    return statistics.median(samples), min(samples)
-
-
-def fmt_time(s: float) -> str:
-    if s < 1e-3:
-        return f"{s * 1e6:9.1f} us"
-    if s < 1.0:
-        return f"{s * 1e3:9.2f} ms"
-    return f"{s:9.3f} s "
 
 
 def build():
@@ -115,16 +81,9 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     reps = args.repeats
 
-    print("clearance scenario benchmark: default 4UPS-UPU scenario with two clearance joints")
-    aff = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else "?"
-    print(
-        f"python {platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}, "
-        f"numba {numba.__version__}; CPU affinity {aff}; "
-        f"NUMBA_NUM_THREADS={os.environ.get('NUMBA_NUM_THREADS')}, "
-        f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}"
+    print_environment(
+        "clearance scenario benchmark: default 4UPS-UPU scenario with two clearance joints"
     )
-    if aff != "?" and len(aff) > 1:
-        print("note: not pinned to one core; use `taskset -c 0` for stable numbers")
 
     # ------------------------------------------------------------ build, compile, warm up
     t0 = time.perf_counter()
@@ -150,7 +109,7 @@ def main(argv: list[str] | None = None) -> int:
     rhs(0.0, y0, model, wk, alpha, beta, 0, out)
     warm["rhs kernel (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    _rhs_loop(1, 0.0, y0, model, wk, alpha, beta, 0, out)
+    rhs_loop(1, 0.0, y0, model, wk, alpha, beta, 0, out)
     warm["rhs called from an @njit loop (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     cl.simulate(c, 0.005, **kw)
@@ -217,7 +176,7 @@ def main(argv: list[str] | None = None) -> int:
     n_np = max(3, int(0.5 / t_np1))
 
     def in_loop(n: int) -> tuple[float, float]:
-        fn = lambda: _rhs_loop(n, tk, y, model, wk, alpha, beta, 0, out)  # noqa: E731
+        fn = lambda: rhs_loop(n, tk, y, model, wk, alpha, beta, 0, out)  # noqa: E731
         med, best = median_time(fn, reps)
         return med / n, best / n
 
@@ -261,7 +220,10 @@ def main(argv: list[str] | None = None) -> int:
     for name, s in warm.items():
         print(f"  {name:<48s} {fmt_time(s)}")
     print(f"  {'scenario, inverse kinematics, compile_mechanism':<48s} {fmt_time(t_build)}")
-    print("  (a warm numba cache loads in well under 1 s; seconds mean numba compiled)")
+    print(
+        "  (a warm numba cache loads in well under 1 s; seconds mean numba compiled; the\n"
+        "   benchmark's own @njit loop is compiled on every run, ~3 s)"
+    )
     print()
     print(
         f"per right-hand side (state in contact at t = {tk:.4f} s, F_N = "
