@@ -362,6 +362,17 @@ def _rows(
     return phi, phi_q, phi_t, gamma, np.array(is_drv)
 
 
+def refuse_moving_parts(mech: Mechanism, who: str) -> None:
+    """NotImplementedError for what the NumPy oracles do not model: sliding attachment
+    points and time-varying inertia (those have their own oracles, see reference_rhs)."""
+    for mk in mech.markers.values():
+        if mk.slide is not None:
+            raise NotImplementedError(f"{who}: marker {mk.name!r} slides")
+    for bd in mech.bodies.values():
+        if bd.inertia_variation is not None:
+            raise NotImplementedError(f"{who}: body {bd.name!r} has varying inertia")
+
+
 def reference_rhs(
     mech: Mechanism,
     t: float,
@@ -385,12 +396,7 @@ def reference_rhs(
     for jt in mech.joints.values():
         if getattr(jt, "clearance", None) is not None:
             raise NotImplementedError(f"reference_rhs: joint {jt.name!r} has a clearance")
-    for mk in mech.markers.values():
-        if mk.slide is not None:
-            raise NotImplementedError(f"reference_rhs: marker {mk.name!r} slides")
-    for bd in mech.bodies.values():
-        if bd.inertia_variation is not None:
-            raise NotImplementedError(f"reference_rhs: body {bd.name!r} has varying inertia")
+    refuse_moving_parts(mech, "reference_rhs")
     nv = 6 * nb
     kin = _Kin(mech, y)
     phi, phi_q, phi_t, gamma, is_drv = _rows(kin, mech, t)

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import RK45, solve_ivp
 
-from clearance.dynamics.reference import _G, _applied, _Kin, _rows
+from clearance.dynamics.reference import _G, _applied, _Kin, _rows, refuse_moving_parts
 from clearance.model.contact_laws import (
     Flores,
     Gonthier,
@@ -202,15 +202,6 @@ def _contact_forces(kin, mech, joints, y, in_contact, ddm):
     return Q, zdot, dn, dt
 
 
-def _check(mech: Mechanism) -> None:
-    for mk in mech.markers.values():
-        if mk.slide is not None:
-            raise NotImplementedError(f"reference_contact: marker {mk.name!r} slides")
-    for bd in mech.bodies.values():
-        if bd.inertia_variation is not None:
-            raise NotImplementedError(f"reference_contact: body {bd.name!r} has varying inertia")
-
-
 def reference_rhs_clearance(
     mech: Mechanism,
     t: float,
@@ -231,7 +222,7 @@ def reference_rhs_clearance(
     before the integrator latches it). joints: clearance_joints(mech), to skip re-reading.
     Returns (y_dot, lam).
     """
-    _check(mech)
+    refuse_moving_parts(mech, "reference_contact")
     y = np.asarray(y, dtype=float)
     joints = clearance_joints(mech) if joints is None else joints
     nb, nc = mech.nbody, len(joints)
