@@ -574,9 +574,10 @@ def save_results(
         xr.Dataset(attrs=clean_attrs(root)).to_netcdf(tmp, mode="w", engine=ENGINE)
         for name in names:
             ds = datasets[name]
-            ds = result_to_dataset(ds) if isinstance(ds, Result) else ds.copy()
+            # a new Dataset either way (the caller's attrs are not touched); a dataset read
+            # from a file carries that file's filters in its encoding: drop them
+            ds = result_to_dataset(ds) if isinstance(ds, Result) else ds.drop_encoding()
             ds.attrs = clean_attrs(ds.attrs)
-            ds = ds.drop_encoding()  # a dataset read from a file keeps that file's filters
             comp = {"zlib": True, "complevel": complevel, "shuffle": True} if complevel else {}
             enc = {
                 k: comp
