@@ -34,7 +34,7 @@ from scipy.integrate import solve_ivp
 import clearance as cl
 from clearance.dynamics.reference import reference_rhs
 from clearance.dynamics.rhs import make_work, rhs
-from clearance.dynamics.solve import Solver
+from clearance.kinds import Solver
 from clearance.mechanisms.ups_upu import ups_upu_ideal
 
 ALPHA, BETA = 5.0, 5.0  # Baumgarte [1/s] (physics.md d.2)

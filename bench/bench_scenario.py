@@ -39,12 +39,12 @@ import time
 import numpy as np
 
 import clearance as cl
+from clearance.analysis.ik import apply_drives, drives_from_ik, inverse_kinematics
 from clearance.dynamics.reference_contact import (
     reference_rhs_clearance,
     solve_ivp_clearance,
 )
 from clearance.dynamics.rhs import make_work, rhs
-from clearance.kinematics.ik import apply_drives, drives_from_ik, inverse_kinematics
 from clearance.scenario import (
     build_mechanisms,
     default_scenario_path,

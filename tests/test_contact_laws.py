@@ -12,9 +12,6 @@ from scipy.integrate import quad, solve_ivp
 from scipy.special import gamma
 
 from clearance.contact.laws import (
-    NPAR,
-    FrictionLaw,
-    NormalLaw,
     elastic_energy,
     friction_force,
     friction_steady,
@@ -26,6 +23,7 @@ from clearance.contact.laws import (
     winkler_kf,
     winkler_kn,
 )
+from clearance.kinds import NPAR, FrictionLaw, NormalLaw
 from clearance.model.contact_laws import (
     ADAMS_IMPACT_STIFFNESS,
     FRICTION_LAWS,

@@ -17,7 +17,7 @@ import pytest
 
 import clearance as cl
 import clearance.mechanisms.ups_upu as ups
-from clearance.kinematics.ik import (
+from clearance.analysis.ik import (
     IKResult,
     PlatformTrajectory,
     apply_drives,

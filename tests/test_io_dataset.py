@@ -15,12 +15,11 @@ import clearance
 from clearance.io.dataset import (
     clean_attrs,
     dataset_to_arrays,
-    export_csv,
-    export_mat,
     load_results,
     result_to_dataset,
     save_results,
 )
+from clearance.io.export import export_csv, export_mat
 from clearance.mechanisms.ups_upu import ups_upu_ideal
 
 T_END, DT_OUT = 0.03, 2e-4

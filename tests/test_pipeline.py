@@ -5,9 +5,9 @@ import pytest
 from typer.testing import CliRunner
 
 import clearance as cl
+from clearance.analysis.assembly import assemble
 from clearance.cli.main import app
 from clearance.io.dataset import load_results
-from clearance.kinematics.analysis import assemble
 from clearance.pipeline import place_balls_along_reaction, run_scenario
 from clearance.scenario import (
     build_mechanisms,
@@ -144,7 +144,7 @@ def test_sps_cu_lumped_actuator_forces_match_two_body_ik_model(tmp_path):
     s = short("sps_cu")
     o = run_scenario(s, out_dir=tmp_path, log=None)
     _, _, info = build_mechanisms(s)
-    from clearance.kinematics.ik import drives_from_ik
+    from clearance.analysis.ik import drives_from_ik
 
     _, _, info2 = build_mechanisms(s, drives=drives_from_ik(o.ik))
     r2 = cl.simulate(info2.ik_mechanism, s.trajectory.duration, dt_out=1e-3, rtol=1e-10, atol=1e-12)

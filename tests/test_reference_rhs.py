@@ -22,7 +22,7 @@ import pytest
 import clearance as cl
 from clearance.dynamics.reference import constraint_rows, reference_rhs
 from clearance.dynamics.rhs import make_work, rhs
-from clearance.dynamics.solve import Solver
+from clearance.kinds import Solver
 
 RTOL = 1e-9
 BAUMGARTE = [(5.0, 5.0), (12.0, 3.0)]

@@ -456,7 +456,7 @@ def test_build_default(default) -> None:
 
 
 def test_build_platform_trajectory(default) -> None:
-    pytest.importorskip("clearance.kinematics.ik")
+    pytest.importorskip("clearance.analysis.ik")
     _, _, info = build_mechanisms(default)
     tr = info.platform_trajectory()
     assert tr.position(1.0) == pytest.approx([0.02, 0.02, 0.73])

@@ -4,7 +4,7 @@ What is proved here, and against which oracle:
 
 * structure (mechanisms.md 2.2 table): lumped ideal 36 velocity unknowns, 32 rows; two-body
   60 unknowns, 52 joint + 4 driver rows; both full rank with DOF 4 (the idle limb spins).
-* trajectory: driven by the limb lengths from the general IK (clearance.kinematics.ik, mode
+* trajectory: driven by the limb lengths from the general IK (clearance.analysis.ik, mode
   "full", sequence "zxy", platform centre) of the mechanisms.md 2.3 trajectory, both models
   follow z(t), R = Rz(psi) Rx(t1) Ry(t2) to 1e-9 m / 1e-9 rad, between IK knots too.
 * LUMPED vs TWO-BODY with the same l_k(t) (the issue's proof of the mass-moment method).
@@ -40,7 +40,7 @@ import numpy as np
 import pytest
 
 import clearance as cl
-from clearance.kinematics.ik import (
+from clearance.analysis.ik import (
     IKResult,
     apply_drives,
     drives_from_ik,

@@ -14,13 +14,13 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.interpolate import BPoly, CubicSpline
 
-from clearance.kinematics.timefn import encode_functions, eval_all, eval_timefn
+from clearance.compile.functions import encode_functions
+from clearance.kinds import RAMP_PROFILES, FnKind
+from clearance.kinematics.timefn import eval_all, eval_timefn
 from clearance.model.errors import ModelError
 from clearance.model.functions import (
-    RAMP_PROFILES,
     SPLINE_BC_TYPES,
     Constant,
-    FnKind,
     HermiteSpline,
     Polynomial,
     Ramp,
@@ -323,7 +323,8 @@ def test_evaluator_runs_without_jit() -> None:
     # The same evaluator must work as plain Python (NUMBA_DISABLE_JIT=1, e.g. for debugging).
     code = """
 import numpy as np
-from clearance.kinematics.timefn import encode_functions, eval_all
+from clearance.compile.functions import encode_functions
+from clearance.kinematics.timefn import eval_all
 from clearance.model.functions import *
 fns = [Constant(1), Polynomial([1, -2, 3], 0.5), Sinusoid(2, 3, 0.1, 1), Ramp(0, 2, 0, 1),
        Tabulated([0, 1, 2, 4], [1, 0, 2, 1], "natural"), Scaled(Sum([Ramp(0, 1, 0, 2), 1]), 2)]
@@ -438,7 +439,8 @@ def test_hermite_validation(make, field: str, value: str) -> None:
 def test_hermite_runs_without_jit() -> None:
     code = """
 import numpy as np
-from clearance.kinematics.timefn import encode_functions, eval_all
+from clearance.compile.functions import encode_functions
+from clearance.kinematics.timefn import eval_all
 from clearance.model.functions import HermiteSpline
 x = np.array([0.0, 0.4, 1.0, 1.3])
 fns = [HermiteSpline(x, np.sin(x), np.cos(x), -np.sin(x)), HermiteSpline(x, x**2, 2 * x, None)]

@@ -8,7 +8,7 @@ import pytest
 import clearance as cl
 from clearance.dynamics.reference import reference_rhs
 from clearance.dynamics.rhs import make_work, rhs
-from clearance.dynamics.solve import Solver
+from clearance.kinds import Solver
 from clearance.mechanisms.ups_upu import UPS_UPU_PARAMS, home_leg_lengths, ups_upu_ideal
 
 

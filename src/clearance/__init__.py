@@ -10,16 +10,15 @@ from clearance import _kernel_cache
 # with a kernel is imported below, while the cache location is set
 _prev_cache_dir = _kernel_cache.configure()
 
-from clearance.compile.compiled import Compiled, compile_mechanism
-from clearance.integrate.result import Result
-from clearance.integrate.simulate import initial_state, scipy_rhs, simulate
-from clearance.kinematics.analysis import (
+from clearance.analysis.assembly import (
     acceleration_analysis,
     assemble,
     evaluate_rows,
     rank_check,
     velocity_analysis,
 )
+from clearance.compile.compiled import Compiled, compile_mechanism
+from clearance.integrate.simulate import initial_state, scipy_rhs, simulate
 from clearance.model import (
     GROUND,
     Body,
@@ -68,6 +67,7 @@ from clearance.model.contact_laws import (
     ZhiyingQishao,
 )
 from clearance.model.functions import Polynomial, Ramp, Sinusoid, Tabulated
+from clearance.store.result import Result
 
 __version__ = "0.1.0"
 

@@ -19,16 +19,16 @@ from pathlib import Path
 import numpy as np
 
 import clearance
+from clearance.analysis.assembly import assemble, velocity_analysis
+from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
 from clearance.compile.compiled import compile_mechanism
-from clearance.integrate.result import Result
 from clearance.integrate.simulate import simulate
-from clearance.kinematics.analysis import assemble, velocity_analysis
-from clearance.kinematics.ik import IKResult, drives_from_ik, inverse_kinematics
 from clearance.model.bodies import Marker
 from clearance.model.drivers import OffsetDriver
 from clearance.model.mechanism import Mechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
 from clearance.scenario.schema import InitialPlacement, Scenario
+from clearance.store.result import Result
 
 # RMS comparisons skip the settling of the ball into first contact (mechanisms.md 1.6)
 SKIP_SETTLING = 0.05  # [s] PROPOSED

@@ -21,21 +21,22 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
-from clearance.constraints.primitives import (
+from clearance.compile.functions import encode_functions
+from clearance.contact.joint import NWORK as _NWORK
+from clearance.kinds import (
     AB_I,
     AB_J,
     AX_I,
     AX_J,
+    NPAR,
     NPV,
     PRIM_ROWS,
     ROTATION_ONLY,
     SB_I,
     SB_J,
+    JointType,
     PrimKind,
 )
-from clearance.contact.joint import NWORK as _NWORK
-from clearance.contact.laws import NPAR
-from clearance.kinematics.timefn import encode_functions
 from clearance.model.bodies import GROUND
 from clearance.model.drivers import (
     DistanceDriver,
@@ -46,7 +47,6 @@ from clearance.model.drivers import (
 )
 from clearance.model.errors import ModelError
 from clearance.model.forces import PointForce, SpringDamper, Torque
-from clearance.model.joints import JointType
 from clearance.model.mechanism import Mechanism
 
 NWORK = _NWORK  # W_c, W_d, W_a, W_m, W_L

@@ -11,10 +11,11 @@ velocity-quadratic and explicit-time terms).
 from __future__ import annotations
 
 import math
-from enum import IntEnum
 
 from numba import njit
 
+from clearance.kinds import AB_I, AB_J, AX_I, AX_J, SB_I, SB_J, PrimKind
+from clearance.kinematics.points import moving_point
 from clearance.kinematics.rotations import (
     add,
     cross,
@@ -26,50 +27,6 @@ from clearance.kinematics.rotations import (
     sub,
     ww,
 )
-
-
-class PrimKind(IntEnum):
-    SPHERICAL = 0  # 3 rows: d = 0
-    DOT1 = 1  # a_i . a_j - f(t)
-    DOT2 = 2  # a_i . d - f(t)
-    DISTANCE = 3  # |d| - l(t)
-    DISTANCE2 = 4  # d . d - l(t)^2
-    DOT1_MOVING = 5  # a_j . c(t), c(t) = R(t) e_m a rheonomic ground vector (pose driver)
-
-
-PRIM_ROWS = {
-    PrimKind.SPHERICAL: 3,
-    PrimKind.DOT1: 1,
-    PrimKind.DOT2: 1,
-    PrimKind.DISTANCE: 1,
-    PrimKind.DISTANCE2: 1,
-    PrimKind.DOT1_MOVING: 1,
-}
-
-# Primitives whose Jacobian rows have no translational columns (J[r, 0:3] = J[r, 6:9] = 0):
-# the Schur assembly skips those terms (compile.compiled._schur_structure). Keep in step
-# with eval_primitives.
-ROTATION_ONLY = frozenset({PrimKind.DOT1, PrimKind.DOT1_MOVING})
-
-# prim_v slots (body components of the owning body; world components for the ground)
-SB_I, SB_J, AB_I, AB_J, AX_I, AX_J = 0, 1, 2, 3, 4, 5
-NPV = 6
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def moving_point(sb0, ax, fn, fval):
-    """(sb, sb_dot, sb_ddot) of an attachment point sb(t) = sb0 + ax f(t) (body frame);
-    fn < 0: a fixed point."""
-    if fn < 0:
-        return (sb0[0], sb0[1], sb0[2]), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
-    f = fval[fn, 0]
-    fd = fval[fn, 1]
-    fdd = fval[fn, 2]
-    return (
-        (sb0[0] + ax[0] * f, sb0[1] + ax[1] * f, sb0[2] + ax[2] * f),
-        (ax[0] * fd, ax[1] * fd, ax[2] * fd),
-        (ax[0] * fdd, ax[1] * fdd, ax[2] * fdd),
-    )
 
 
 @njit(cache=True, inline="always", error_model="numpy")

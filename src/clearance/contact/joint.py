@@ -20,9 +20,9 @@ import math
 
 from numba import njit
 
-from clearance.constraints.primitives import moving_point
-from clearance.contact.laws import FrictionLaw, elastic_energy, friction_force, normal_force
-from clearance.dynamics.forces import add_force
+from clearance.contact.laws import elastic_energy, friction_force, normal_force
+from clearance.kinds import FrictionLaw
+from clearance.kinematics.points import add_force, moving_point
 from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
 
 _LUGRE = int(FrictionLaw.LUGRE)

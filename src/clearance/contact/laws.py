@@ -59,47 +59,15 @@ Under NUMBA_DISABLE_JIT=1 everything runs as plain Python.
 from __future__ import annotations
 
 import math
-from enum import IntEnum
 
 import numpy as np
 from numba import njit
 
+from clearance.kinds import FrictionLaw, NormalLaw
 from clearance.kinematics.rotations import dot, scale
 
 # The Python helpers raise ValueError, not clearance.model's ModelError: importing the
 # model package from here would make a cycle (model.contact_laws imports this module).
-
-NPAR = 8
-
-
-class NormalLaw(IntEnum):
-    """Normal contact law codes (physics.md g); par layouts in the module docstring."""
-
-    HERTZ = 0
-    KELVIN_VOIGT = 1
-    HUNT_CROSSLEY = 2
-    LANKARANI_NIKRAVESH = 3
-    FLORES = 4
-    GONTHIER = 5
-    HU_GUO = 6
-    HERBERT_MCWHANNELL = 7
-    LEE_WANG = 8
-    ZHIYING_QISHAO = 9
-    IMPACT = 10
-    WINKLER_FORM1 = 11
-    WINKLER_FORM2 = 12
-
-
-class FrictionLaw(IntEnum):
-    """Friction law codes (physics.md h); par layouts in the module docstring."""
-
-    NONE = 0
-    COULOMB = 1
-    COULOMB_SMOOTH = 2
-    THRELFALL = 3
-    STRIBECK = 4
-    LUGRE = 5
-
 
 # Plain ints: numba freezes module globals as compile-time constants.
 _HERTZ = int(NormalLaw.HERTZ)

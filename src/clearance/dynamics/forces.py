@@ -8,25 +8,12 @@ import math
 
 from numba import njit
 
+from clearance.kinds import ForceType
+from clearance.kinematics.points import add_force
 from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
-from clearance.model.forces import ForceType
 
 _POINT = int(ForceType.POINT_FORCE)
 _TORQUE = int(ForceType.TORQUE)
-
-
-@njit(cache=True, error_model="numpy")
-def add_force(Q, b, bA, F, s_w):
-    """Add world force F applied at arm s_w (world, from the CoM) to body b (skip ground)."""
-    if b < 0:
-        return
-    Q[b, 0] += F[0]
-    Q[b, 1] += F[1]
-    Q[b, 2] += F[2]
-    n = mattvec(bA[b], cross(s_w, F))
-    Q[b, 3] += n[0]
-    Q[b, 4] += n[1]
-    Q[b, 5] += n[2]
 
 
 @njit(cache=True, error_model="numpy")

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from clearance.kinds import JointType
 from clearance.model.bodies import GROUND
 from clearance.model.drivers import (
     DistanceDriver,
@@ -38,7 +39,6 @@ from clearance.model.drivers import (
     PrismaticDriver,
 )
 from clearance.model.forces import PointForce, SpringDamper, Torque
-from clearance.model.joints import JointType
 from clearance.model.mechanism import Mechanism
 
 __all__ = ["constraint_rows", "reference_rhs"]

@@ -16,17 +16,9 @@ constraint sets (physics.md c.5): v_dot is unique, lam is not.
 from __future__ import annotations
 
 import math
-from enum import IntEnum
 
 import numpy as np
 from numba import njit
-
-
-class Solver(IntEnum):
-    SCHUR = 0
-    DENSE = 1
-    LSTSQ = 2
-
 
 _NONNEG = 0x7FFFFFFFFFFFFFFF
 

@@ -24,7 +24,7 @@ import math
 from numba import njit
 
 from clearance.contact.joint import _centres, clearance_geometry
-from clearance.contact.laws import FrictionLaw
+from clearance.kinds import FrictionLaw
 from clearance.kinematics.rotations import add, cross, dot, mattvec, quat_to_rot, scale, sub
 from clearance.kinematics.timefn import eval_timefn
 

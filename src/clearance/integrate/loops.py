@@ -14,7 +14,6 @@ underflow, 3 too many steps, 4 non-finite state.
 from __future__ import annotations
 
 import math
-from enum import IntEnum
 
 import numpy as np
 from numba import njit
@@ -23,30 +22,18 @@ from clearance.contact.joint import CO_DELTA, CO_FN
 from clearance.dynamics.rhs import constraint_rows, rhs
 from clearance.dynamics.solve import solve_constrained
 from clearance.integrate.events import interpolate, locate_event, update_contacts
+from clearance.kinds import (
+    NSTATS,
+    ST_HLAST,
+    ST_HMAX,
+    ST_HMIN,
+    ST_NACC,
+    ST_NEVT,
+    ST_NFEV,
+    ST_NPROJ,
+    ST_NREJ,
+)
 from clearance.kinematics.rotations import quat_rotate_body
-
-
-class Status(IntEnum):
-    SUCCESS = 0
-    SINGULAR = 1
-    STEP_UNDERFLOW = 2
-    MAX_STEPS = 3
-    NONFINITE = 4
-
-
-STATUS_MESSAGE = {
-    Status.SUCCESS: "integration reached the final time",
-    Status.SINGULAR: "the constraint matrix became singular (a singular configuration, or "
-    "redundant constraints: try solver='lstsq')",
-    Status.STEP_UNDERFLOW: "step size underflow: the step needed fell below the minimum "
-    "(stiffness, a singular configuration, or an impossible motion)",
-    Status.MAX_STEPS: "the maximum number of steps was reached",
-    Status.NONFINITE: "the state became non-finite (NaN or inf)",
-}
-
-# stats layout
-ST_NFEV, ST_NACC, ST_NREJ, ST_NPROJ, ST_HMIN, ST_HMAX, ST_HLAST, ST_NEVT = 0, 1, 2, 3, 4, 5, 6, 7
-NSTATS = 8
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

@@ -9,29 +9,14 @@ import time as _time
 
 import numpy as np
 
+from clearance.analysis.assembly import assemble, rank_check, velocity_analysis
 from clearance.compile.compiled import NWORK, Compiled, compile_mechanism
 from clearance.contact.joint import CO_DELTA, CO_FN, NCOUT
 from clearance.dynamics.rhs import make_work, rhs
-from clearance.dynamics.solve import Solver
 from clearance.integrate.buffers import prefaulted_copy, prefaulted_zeros
 from clearance.integrate.events import NLOG
-from clearance.integrate.loops import (
-    NSTATS,
-    ST_HLAST,
-    ST_HMAX,
-    ST_HMIN,
-    ST_NACC,
-    ST_NEVT,
-    ST_NFEV,
-    ST_NPROJ,
-    ST_NREJ,
-    STATUS_MESSAGE,
-    Status,
-    erk54,
-    rk4,
-)
+from clearance.integrate.loops import erk54, rk4
 from clearance.integrate.post import post_process
-from clearance.integrate.result import Result
 from clearance.integrate.tableau import (
     DP5_A,
     DP5_C,
@@ -42,10 +27,24 @@ from clearance.integrate.tableau import (
     TS5_E,
     TS5_P,
 )
-from clearance.kinematics.analysis import assemble, rank_check, velocity_analysis
+from clearance.kinds import (
+    NSTATS,
+    ST_HLAST,
+    ST_HMAX,
+    ST_HMIN,
+    ST_NACC,
+    ST_NEVT,
+    ST_NFEV,
+    ST_NPROJ,
+    ST_NREJ,
+    STATUS_MESSAGE,
+    Solver,
+    Status,
+)
 from clearance.model.drivers import DistanceDriver
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
+from clearance.store.result import Result
 
 METHODS = ("dopri5", "tsit5", "rk4")
 # the adaptive 5(4) pairs run by `erk54`: (A, C, E, P)

@@ -36,17 +36,15 @@ row: the multipliers and constraint violations, whose rows mix m and 1).
 
 NetCDF (`save_results`): one group per run ("ideal", "clearance", ...), root attributes
 (clearance_version, created, groups (JSON list, in order), the caller's attrs). CSV and MAT
-exports are in `clearance.io.export` (re-exported here). Every file is written atomically.
+exports are in `clearance.io.export`. Every file is written atomically.
 """
 
 from __future__ import annotations
 
-import contextlib
 import datetime as _dt
 import json
 import os
-import tempfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -64,7 +62,8 @@ from clearance.contact.joint import (
     CO_VT,
     NCOUT,
 )
-from clearance.integrate.result import Result
+from clearance.io.files import atomic_path
+from clearance.store.result import Result
 
 ENGINE = "h5netcdf"
 AXIS = ("x", "y", "z")
@@ -86,29 +85,6 @@ _ENERGY_NAMES = {
 
 
 # ----------------------------------------------------------------------------- helpers
-@contextlib.contextmanager
-def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
-    """Yield a temporary path next to `path`; on success rename it over `path`.
-
-    The temporary file lives in the same folder (so `os.replace` is atomic) and is removed
-    if the body raises; an existing `path` is then left untouched. The final file gets the
-    mode of the file it replaces, else 0o644.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        mode = path.stat().st_mode & 0o777 if path.exists() else 0o644
-        os.chmod(tmp, mode)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
-
-
 def _attr_value(v: object) -> object:
     """A value NetCDF can hold as an attribute (str, number, numeric 1-D array)."""
     if isinstance(v, (bool, np.bool_)):
@@ -608,8 +584,6 @@ def load_results(path: str | os.PathLike) -> ResultFile:
     return out
 
 
-from clearance.io.export import export_csv, export_mat  # noqa: E402  (re-export)
-
 __all__ = [
     "AXIS",
     "QUAT",
@@ -617,8 +591,6 @@ __all__ = [
     "atomic_path",
     "clean_attrs",
     "dataset_to_arrays",
-    "export_csv",
-    "export_mat",
     "load_results",
     "result_to_dataset",
     "rotation_matrices",

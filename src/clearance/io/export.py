@@ -34,6 +34,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from clearance.io.dataset import load_results
+from clearance.io.files import atomic_path
+
 
 def _label(ds: xr.Dataset, dim: str, i: int) -> str:
     if dim in ds.coords and ds[dim].dims == (dim,):
@@ -67,8 +70,6 @@ def _cell(x: object) -> str:
 
 
 def _write_table(path: Path, header: list[str], columns: list[np.ndarray]) -> None:
-    from clearance.io.dataset import atomic_path
-
     cols = [[_cell(x) for x in np.asarray(c).tolist()] for c in columns]
     with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
@@ -90,8 +91,6 @@ def export_csv(path_nc: str | os.PathLike, out_dir: str | os.PathLike) -> list[P
     Returns the written paths: per group `STEM_g.csv` and `STEM_g_events.csv`, then
     `STEM_metadata.csv`.
     """
-    from clearance.io.dataset import load_results
-
     files = load_results(path_nc)
     out_dir = Path(out_dir)
     stem = Path(path_nc).stem
@@ -143,8 +142,6 @@ def _mat_value(a: np.ndarray) -> np.ndarray:
 def export_mat(path_nc: str | os.PathLike, out_file: str | os.PathLike) -> Path:
     """Write a results file as a MATLAB `.mat` (v5, compressed; layout: module docstring)."""
     import scipy.io
-
-    from clearance.io.dataset import atomic_path, load_results
 
     files = load_results(path_nc)
     top: set = {"attrs", "groups"}

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from clearance.integrate.result import Result
+from clearance.store.result import Result
 
 
 def save_npz(result: Result, path: str | os.PathLike) -> Path:

@@ -1,7 +1,8 @@
 """Compiled evaluation of encoded time functions f(t), f_dot, f_ddot (t in s).
 
-`encode_functions` flattens TimeFunctions into three arrays: fn_kind[k] (FnKind code),
-fn_ptr[k] : fn_ptr[k + 1] (the slice of fn_data holding function k's parameters) and fn_data.
+`clearance.compile.functions.encode_functions` flattens TimeFunctions into three arrays:
+fn_kind[k] (FnKind code), fn_ptr[k] : fn_ptr[k + 1] (the slice of fn_data holding function
+k's parameters) and fn_data.
 Per-kind layouts (see FnKind):
 
     CONSTANT    [value]
@@ -24,12 +25,11 @@ The evaluators are plain Python under NUMBA_DISABLE_JIT=1.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 
 import numpy as np
 from numba import njit
 
-from clearance.model.functions import FnKind, TimeFunction, as_function
+from clearance.kinds import FnKind
 
 # Plain ints: numba freezes module globals as compile-time constants.
 _CONSTANT = int(FnKind.CONSTANT)
@@ -39,23 +39,6 @@ _RAMP = int(FnKind.RAMP)
 _TABULATED = int(FnKind.TABULATED)
 _SUM = int(FnKind.SUM)
 _PPOLY = int(FnKind.PPOLY)
-
-
-def encode_functions(
-    funcs: Sequence[TimeFunction],
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Encode functions into (fn_kind int64[n], fn_ptr int64[n + 1], fn_data float64[...])."""
-    n = len(funcs)
-    fn_kind = np.zeros(n, dtype=np.int64)
-    fn_ptr = np.zeros(n + 1, dtype=np.int64)
-    chunks = []
-    for k, f in enumerate(funcs):
-        code, data = as_function(f, owner="encode_functions", field=f"funcs[{k}]").encode()
-        fn_kind[k] = code
-        fn_ptr[k + 1] = fn_ptr[k] + data.size
-        chunks.append(np.asarray(data, dtype=np.float64))
-    fn_data = np.concatenate(chunks) if chunks else np.zeros(0, dtype=np.float64)
-    return fn_kind, fn_ptr, fn_data
 
 
 @njit(cache=True, inline="always")

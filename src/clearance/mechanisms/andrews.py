@@ -106,7 +106,7 @@ from clearance.model import (
 )
 
 if TYPE_CHECKING:
-    from clearance.integrate.result import Result
+    from clearance.store.result import Result
 
 # --------------------------------------------------------------------------- parameters
 # Test Set for IVP Solvers, andrews.f (mechanisms.md 3.1); SI units.

@@ -282,7 +282,7 @@ def sps_cu(
     (cylinder + piston, prismatic joint, PrismaticDriver "drive_k"); None = the parameter
     `limb_model` (default "lumped").
     lengths: the limb lengths l_k(t) [m], a mapping {"drive_1": f1, ..., "drive_4": f4}
-    (e.g. `clearance.kinematics.ik.drives_from_ik` of the two-body model) or a sequence of
+    (e.g. `clearance.analysis.ik.drives_from_ik` of the two-body model) or a sequence of
     4; TimeFunctions or numbers. Default: the constant home lengths (the mechanism rests at
     home). Initial poses are the home pose; `clearance.assemble` (run by `simulate`)
     polishes them when l_k(0) differs from the home length.

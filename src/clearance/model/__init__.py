@@ -1,5 +1,6 @@
 """Describe: bodies, markers, joints, drivers, forces, time functions, the Mechanism."""
 
+from clearance.kinds import JointType
 from clearance.model.bodies import GROUND, Body, Marker, triad_from_axis
 from clearance.model.drivers import (
     DistanceDriver,
@@ -15,7 +16,6 @@ from clearance.model.joints import (
     Cylindrical,
     Fixed,
     Joint,
-    JointType,
     Prismatic,
     Revolute,
     Spherical,

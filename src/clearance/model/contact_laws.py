@@ -34,14 +34,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from clearance.contact.laws import (
-    NPAR,
-    FrictionLaw,
-    NormalLaw,
-    hertz_stiffness,
-    kelvin_voigt_damping,
-    winkler_kf,
-)
+from clearance.contact.laws import hertz_stiffness, kelvin_voigt_damping, winkler_kf
+from clearance.kinds import NPAR, FrictionLaw, NormalLaw
 from clearance.model.errors import ModelError
 
 # ADAMS IMPACT default stiffness 1e5 N/mm^1.5 in SI (physics.md g.4, RECALLED).

@@ -7,20 +7,12 @@ actuator force or torque; signs are documented on each class (Q_c = -phi_q^T lam
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import IntEnum
 
 import numpy as np
 
+from clearance.kinds import DriverType
 from clearance.model.errors import ModelError
 from clearance.model.functions import TimeFunction, as_function
-
-
-class DriverType(IntEnum):
-    PRISMATIC = 0
-    DISTANCE = 1
-    POSITION = 2
-    ORIENTATION = 3
-    OFFSET = 4
 
 
 def _name(cls: str, name: object) -> str:

@@ -7,18 +7,12 @@ direction fixed in the world, `frame="marker"` makes it follow the marker triad.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import IntEnum
 
 import numpy as np
 
+from clearance.kinds import ForceType
 from clearance.model.errors import ModelError
 from clearance.model.functions import TimeFunction, as_function
-
-
-class ForceType(IntEnum):
-    POINT_FORCE = 0
-    TORQUE = 1
-    SPRING_DAMPER = 2
 
 
 def _dir(who: str, field: str, v: object) -> tuple:

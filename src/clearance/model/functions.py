@@ -13,29 +13,15 @@ import math
 import numbers
 from collections.abc import Iterable
 from dataclasses import dataclass, field
-from enum import IntEnum
 from typing import Any, ClassVar
 
 import numpy as np
 import numpy.polynomial.polynomial as npoly
 from scipy.interpolate import BPoly, CubicSpline, PPoly
 
+from clearance.kinds import RAMP_PROFILES, FnKind
 from clearance.model.errors import ModelError
 
-
-class FnKind(IntEnum):
-    """Kind codes of encoded functions; the data layout of each is given in brackets."""
-
-    CONSTANT = 0  # [value]
-    POLYNOMIAL = 1  # [t0, c_0, c_1, ..., c_n]
-    SINUSOID = 2  # [amplitude, omega, phase, offset]
-    RAMP = 3  # [start_value, end_value, t_start, t_end, profile code (RAMP_PROFILES index)]
-    TABULATED = 4  # [m, x_0..x_m, then per segment i: c3, c2, c1, c0 of sum c_k (t - x_i)^k]
-    SUM = 5  # [offset, n_terms, then per term: kind, weight, length, leaf data...]
-    PPOLY = 6  # [m, k, x_0..x_m, then per segment i: c_k..c_0 of sum c_j (t - x_i)^j]
-
-
-RAMP_PROFILES = ("quintic", "cycloidal", "cosine")
 SPLINE_BC_TYPES = ("not-a-knot", "natural", "clamped")
 
 

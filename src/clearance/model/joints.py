@@ -13,30 +13,11 @@ Prismatic 5, Fixed 6. Axis conventions (marker triad columns f, g, h):
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import IntEnum
 from typing import ClassVar
 
+from clearance.kinds import JOINT_ROWS, JointType
 from clearance.model.clearance import Clearance
 from clearance.model.errors import ModelError
-
-
-class JointType(IntEnum):
-    SPHERICAL = 0
-    UNIVERSAL = 1
-    REVOLUTE = 2
-    CYLINDRICAL = 3
-    PRISMATIC = 4
-    FIXED = 5
-
-
-JOINT_ROWS = {
-    JointType.SPHERICAL: 3,
-    JointType.UNIVERSAL: 4,
-    JointType.REVOLUTE: 5,
-    JointType.CYLINDRICAL: 4,
-    JointType.PRISMATIC: 5,
-    JointType.FIXED: 6,
-}
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,8 @@ import xarray as xr
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
-from clearance.io.dataset import atomic_path, rotation_matrices
+from clearance.io.dataset import rotation_matrices
+from clearance.io.files import atomic_path
 
 STYLE = {
     "font.size": 9,

@@ -9,7 +9,7 @@ added to `BUILDERS` together with its factory; until then its scenarios validate
 The actuator drives are not computed here: `info` carries the platform trajectory
 (`info.pose_functions()`, `info.platform_trajectory()`), the platform marker and the
 actuator driver names that the general inverse kinematics (physics.md e.2,
-`clearance.kinematics.ik`) needs; pass its drives back through `drives=`. Without them the
+`clearance.analysis.ik`) needs; pass its drives back through `drives=`. Without them the
 actuators hold the home lengths (the platform rests at home).
 """
 
@@ -60,7 +60,7 @@ class BuildInfo:
     home_drives: actuator values at home [m]. clearance_joints: names of the joints with
     clearance. home_position (3,) [m]: platform centre at home, where g(t) = 0.
     pose_sequence / pose_mode: rotation sequence and mode of the prescribed orientation
-    (`clearance.kinematics.ik.PlatformTrajectory`); angle_coordinates: trajectory
+    (`clearance.analysis.ik.PlatformTrajectory`); angle_coordinates: trajectory
     coordinates mapped onto that sequence (missing ones are 0). t_end [s]: the scenario's
     duration. simulate_kwargs: keyword arguments of `clearance.simulate`.
     """
@@ -96,8 +96,8 @@ class BuildInfo:
         return out
 
     def platform_trajectory(self) -> Any:
-        """The trajectory as a `clearance.kinematics.ik.PlatformTrajectory`."""
-        from clearance.kinematics.ik import PlatformTrajectory
+        """The trajectory as a `clearance.analysis.ik.PlatformTrajectory`."""
+        from clearance.analysis.ik import PlatformTrajectory
 
         f = self.pose_functions()
         angles = (f["angle_1"], f["angle_2"], f["angle_3"])

@@ -87,7 +87,7 @@ class MechanismKind:
     params: its parameter set class; spherical_joints: joint names that may get clearance,
     with the body of marker i (the default socket side); positions / angles: trajectory
     amplitude coordinates [m] / [rad]; sequence, mode: the platform-pose description of
-    `clearance.kinematics.ik` (angles map onto the sequence, missing ones are 0).
+    `clearance.analysis.ik` (angles map onto the sequence, missing ones are 0).
     """
 
     params: type[ParamSet]

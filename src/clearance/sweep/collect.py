@@ -248,7 +248,7 @@ def collect_study(
     in the merged dataset (default: all; large studies may want e.g. ["contact_force",
     "position"]). dataset / plots: write the merged dataset / the plots.
     """
-    from clearance.io.dataset import atomic_path
+    from clearance.io.files import atomic_path
 
     folder = Path(folder)
     man = read_manifest(folder)

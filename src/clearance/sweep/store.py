@@ -22,7 +22,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from clearance.io.dataset import atomic_path
+from clearance.io.files import atomic_path
 from clearance.sweep.design import canonical_json
 from clearance.sweep.study import Case, Study, StudyError
 

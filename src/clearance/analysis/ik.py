@@ -34,14 +34,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from clearance.compile.compiled import Compiled, compile_mechanism
-from clearance.kinematics.analysis import (
+from clearance.analysis.assembly import (
     acceleration_analysis,
     apply_position_increment,
     assemble,
     evaluate_rows,
     velocity_analysis,
 )
+from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.model.bodies import GROUND, Marker, quaternion_to_rotation
 from clearance.model.drivers import OrientationDriver, PositionDriver, PrismaticDriver
 from clearance.model.errors import KinematicsError, ModelError

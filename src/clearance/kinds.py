@@ -1,0 +1,176 @@
+"""Every kind code, slot constant, array size and status code of the package, in one place.
+
+The describe layer (`clearance.model`) names things with these enums, compile encodes them
+into the kernel arrays, the compiled kernels dispatch on them (numba freezes module-level
+ints and IntEnum members as compile-time constants), and the storage layer labels its
+output with them. Nothing else defines a code: a new joint, primitive, law or status is one
+line here plus its implementation.
+
+Strings appear only at the file boundary (`clearance.scenario`, datasets): the registry
+names of the laws and clearance kinds below are the ones written in scenario files, result
+attributes and datasets alike.
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+# --------------------------------------------------------------------------- joints
+
+
+class JointType(IntEnum):
+    """Ideal joint kinds (physics.md c.3)."""
+
+    SPHERICAL = 0
+    UNIVERSAL = 1
+    REVOLUTE = 2
+    CYLINDRICAL = 3
+    PRISMATIC = 4
+    FIXED = 5
+
+
+#: constraint rows of each ideal joint (Newton-Euler velocity form)
+JOINT_ROWS = {
+    JointType.SPHERICAL: 3,
+    JointType.UNIVERSAL: 4,
+    JointType.REVOLUTE: 5,
+    JointType.CYLINDRICAL: 4,
+    JointType.PRISMATIC: 5,
+    JointType.FIXED: 6,
+}
+
+
+class DriverType(IntEnum):
+    PRISMATIC = 0
+    DISTANCE = 1
+    POSITION = 2
+    ORIENTATION = 3
+    OFFSET = 4
+
+
+class ForceType(IntEnum):
+    POINT_FORCE = 0
+    TORQUE = 1
+    SPRING_DAMPER = 2
+
+
+# --------------------------------------------------------------------------- time functions
+
+
+class FnKind(IntEnum):
+    """Kind codes of encoded functions; the data layout of each is given in brackets."""
+
+    CONSTANT = 0  # [value]
+    POLYNOMIAL = 1  # [t0, c_0, c_1, ..., c_n]
+    SINUSOID = 2  # [amplitude, omega, phase, offset]
+    RAMP = 3  # [start_value, end_value, t_start, t_end, profile code (RAMP_PROFILES index)]
+    TABULATED = 4  # [m, x_0..x_m, then per segment i: c3, c2, c1, c0 of sum c_k (t - x_i)^k]
+    SUM = 5  # [offset, n_terms, then per term: kind, weight, length, leaf data...]
+    PPOLY = 6  # [m, k, x_0..x_m, then per segment i: c_k..c_0 of sum c_j (t - x_i)^j]
+
+
+RAMP_PROFILES = ("quintic", "cycloidal", "cosine")
+
+# --------------------------------------------------------------------------- constraint primitives
+
+
+class PrimKind(IntEnum):
+    """Constraint primitives of physics.md c.2 (`clearance.constraints.primitives`)."""
+
+    SPHERICAL = 0  # 3 rows: d = 0
+    DOT1 = 1  # a_i . a_j - f(t)
+    DOT2 = 2  # a_i . d - f(t)
+    DISTANCE = 3  # |d| - l(t)
+    DISTANCE2 = 4  # d . d - l(t)^2
+    DOT1_MOVING = 5  # a_j . c(t), c(t) = R(t) e_m a rheonomic ground vector (pose driver)
+
+
+PRIM_ROWS = {
+    PrimKind.SPHERICAL: 3,
+    PrimKind.DOT1: 1,
+    PrimKind.DOT2: 1,
+    PrimKind.DISTANCE: 1,
+    PrimKind.DISTANCE2: 1,
+    PrimKind.DOT1_MOVING: 1,
+}
+
+# Primitives whose Jacobian rows have no translational columns (J[r, 0:3] = J[r, 6:9] = 0):
+# the Schur assembly skips those terms (compile.compiled._schur_structure). Keep in step
+# with constraints.primitives.eval_primitives.
+ROTATION_ONLY = frozenset({PrimKind.DOT1, PrimKind.DOT1_MOVING})
+
+# prim_v slots (body components of the owning body; world components for the ground)
+SB_I, SB_J, AB_I, AB_J, AX_I, AX_J = 0, 1, 2, 3, 4, 5
+NPV = 6
+NPIX = 8  # int parameters per primitive (prim_ix: orientation driver functions and axes)
+
+# --------------------------------------------------------------------------- contact laws
+
+#: parameters per law (float64 `par` arrays; unused slots are 0)
+NPAR = 8
+
+
+class NormalLaw(IntEnum):
+    """Normal contact law codes (physics.md g); par layouts in `clearance.contact.laws`."""
+
+    HERTZ = 0
+    KELVIN_VOIGT = 1
+    HUNT_CROSSLEY = 2
+    LANKARANI_NIKRAVESH = 3
+    FLORES = 4
+    GONTHIER = 5
+    HU_GUO = 6
+    HERBERT_MCWHANNELL = 7
+    LEE_WANG = 8
+    ZHIYING_QISHAO = 9
+    IMPACT = 10
+    WINKLER_FORM1 = 11
+    WINKLER_FORM2 = 12
+
+
+class FrictionLaw(IntEnum):
+    """Friction law codes (physics.md h); par layouts in `clearance.contact.laws`."""
+
+    NONE = 0
+    COULOMB = 1
+    COULOMB_SMOOTH = 2
+    THRELFALL = 3
+    STRIBECK = 4
+    LUGRE = 5
+
+
+# --------------------------------------------------------------------------- solver, integrator
+
+
+class Solver(IntEnum):
+    """Linear solve of the augmented system (`clearance.dynamics.solve`)."""
+
+    SCHUR = 0
+    DENSE = 1
+    LSTSQ = 2
+
+
+class Status(IntEnum):
+    """Why an integration stopped (0: it reached the final time)."""
+
+    SUCCESS = 0
+    SINGULAR = 1
+    STEP_UNDERFLOW = 2
+    MAX_STEPS = 3
+    NONFINITE = 4
+
+
+STATUS_MESSAGE = {
+    Status.SUCCESS: "integration reached the final time",
+    Status.SINGULAR: "the constraint matrix became singular (a singular configuration, or "
+    "redundant constraints: try solver='lstsq')",
+    Status.STEP_UNDERFLOW: "step size underflow: the step needed fell below the minimum "
+    "(stiffness, a singular configuration, or an impossible motion)",
+    Status.MAX_STEPS: "the maximum number of steps was reached",
+    Status.NONFINITE: "the state became non-finite (NaN or inf)",
+}
+
+# integrator statistics: slots of the `stats` array
+ST_NFEV, ST_NACC, ST_NREJ, ST_NPROJ, ST_HMIN, ST_HMAX, ST_HLAST, ST_NEVT = 0, 1, 2, 3, 4, 5, 6, 7
+NSTATS = 8
+STAT_NAMES = ("nfev", "naccept", "nreject", "nproject", "hmin", "hmax", "hlast", "nevents")
