@@ -11,16 +11,15 @@ from hypothesis import strategies as st
 from scipy.integrate import quad, solve_ivp
 from scipy.special import gamma
 
+from clearance.compile.calibration import hertz_stiffness, kelvin_voigt_damping, winkler_kf
+from clearance.compile.laws import ContactGeometry, encode_friction, encode_normal
 from clearance.contact.laws import (
     elastic_energy,
     friction_force,
     friction_steady,
-    hertz_stiffness,
-    kelvin_voigt_damping,
     normal_force,
     step,
     winkler_fel,
-    winkler_kf,
     winkler_kn,
 )
 from clearance.kinds import NPAR, FrictionLaw, NormalLaw
@@ -41,11 +40,11 @@ from clearance.model.contact_laws import (
     NonlinearStiffness,
     Stribeck,
     Threlfall,
-    friction_law_from_dict,
+    law_name,
     law_to_dict,
-    normal_law_from_dict,
 )
 from clearance.model.errors import ModelError
+from clearance.scenario.schema import parse_law
 
 NL, FL = NormalLaw, FrictionLaw
 DISSIPATIVE = (
@@ -151,7 +150,9 @@ def test_winkler_calibration(form):
     _, f_el = fn(law, par(kf, R, 0.9), d_ref, 0.0, 0.1, c)
     assert f_el == pytest.approx(k * d_ref**1.5, rel=1e-12)
     # the dataclass does the same with the internal Hertz K from the materials
-    code, p = NonlinearStiffness(form=form, delta_ref=d_ref).encode(R_ball=R, R_socket=R + c)
+    code, p = encode_normal(
+        NonlinearStiffness(form=form, delta_ref=d_ref), ContactGeometry(R, R + c)
+    )
     assert code == int(law)
     k_hertz = hertz_stiffness(207e9, 0.3, 207e9, 0.3, R, R + c)
     assert fn(code, p, d_ref, 0.0, 0.1, c)[1] == pytest.approx(k_hertz * d_ref**1.5, rel=1e-12)
@@ -211,7 +212,7 @@ def test_hertz_stiffness_table_g1():
         # K = (4/3) E* sqrt(R*) with E* = 1.1374e11: recover R* to 4 digits
         r_star_k = (k / (4 / 3 * 207e9 / (2 * 0.91))) ** 2
         assert float(f"{r_star_k:.3e}") == pytest.approx(r_star, rel=1e-3)
-        code, p = Flores().encode(R_ball=rb, R_socket=rs)
+        code, p = encode_normal(Flores(), ContactGeometry(rb, rs))
         assert p[0] == k and code == int(NL.FLORES)
 
 
@@ -319,7 +320,7 @@ def test_hertz_impact_elastic_delta_max_and_contact_time():
 COULOMB_P = par(0.1, 1e-4, 1e-3)
 STRIBECK_P = par(0.15, 0.1, 1e-3, 1e-2)
 THRELFALL_P = par(0.1, 1e-3)
-LUGRE_P = LuGre().encode()[1]
+LUGRE_P = encode_friction(LuGre())[1]
 
 
 def test_coulomb_ramps():
@@ -335,8 +336,8 @@ def test_coulomb_ramps():
     assert mu(cub, COULOMB_P, 5.5e-4) == pytest.approx(0.05)
     assert mu(cub, COULOMB_P, 3.25e-4) == pytest.approx(0.1 * 0.15625)  # D = 1/4
     assert mu(cub, COULOMB_P, 1e-3) == pytest.approx(0.1)
-    assert Coulomb(ramp="cubic").encode()[0] == int(FL.COULOMB_SMOOTH)
-    assert Coulomb().encode()[0] == int(FL.COULOMB)
+    assert encode_friction(Coulomb(ramp="cubic"))[0] == int(FL.COULOMB_SMOOTH)
+    assert encode_friction(Coulomb())[0] == int(FL.COULOMB)
 
 
 def test_threlfall_and_stribeck():
@@ -417,7 +418,7 @@ def lugre_run(p, vt_of_t, t_end, *, f_n=1.0):
 @pytest.mark.parametrize("v", [1e-4, 1e-3, 1e-2, 1e-1])
 @pytest.mark.parametrize("vdamp", [True, False])
 def test_lugre_steady_state_is_stribeck_curve(v, vdamp):
-    p = LuGre(velocity_damping=vdamp).encode()[1]
+    p = encode_friction(LuGre(velocity_damping=vdamp))[1]
     t_hat = np.array([0.6, 0.0, 0.8])
     vt = tuple(v * t_hat)
     g = 0.1 + 0.05 * math.exp(-((v / 1e-3) ** 2))
@@ -451,7 +452,7 @@ def test_lugre_onset_transient_velocity_damping():
     vt = (0.0, v, 0.0)
     res = {}
     for vdamp in (False, True):
-        p = LuGre(velocity_damping=vdamp).encode()[1]
+        p = encode_friction(LuGre(velocity_damping=vdamp))[1]
         sol = lugre_run(p, lambda t, vt=vt: vt, 60 * tau)
         res[vdamp] = sol.y[3, -1]
         ft0, _ = friction_force(int(FL.LUGRE), p, 1.0, vt, (0.0, 0.0, 0.0))
@@ -486,8 +487,12 @@ def test_lugre_onset_transient_velocity_damping():
         (lambda: Stribeck(v_s=1e-2, v_tr=1e-3), "v_tr", 1e-3),
         (lambda: LuGre(mu_c=0.0), "mu_c", 0.0),
         (lambda: LuGre(velocity_damping=1), "velocity_damping", 1),
-        (lambda: KelvinVoigt(1e8).encode(R_ball=0.01, R_socket=0.0101), "effective_mass", None),
-        (lambda: Flores().encode(R_ball=0.01, R_socket=0.01), "R_socket", 0.01),
+        (
+            lambda: encode_normal(KelvinVoigt(1e8), ContactGeometry(0.01, 0.0101)),
+            "effective_mass",
+            None,
+        ),
+        (lambda: encode_normal(Flores(), ContactGeometry(0.01, 0.01)), "R_socket", 0.01),
     ],
 )
 def test_validation_errors_name_field_and_value(make, field, value):
@@ -500,55 +505,69 @@ def test_validation_errors_name_field_and_value(make, field, value):
 
 def test_encode_defaults():
     rb, rs = 0.015, 0.0153
-    code, p = Impact().encode(R_ball=rb, R_socket=rs)
+    code, p = encode_normal(Impact(), ContactGeometry(rb, rs))
     assert code == int(NL.IMPACT) and p.shape == (NPAR,)
     assert p[:4] == pytest.approx((ADAMS_IMPACT_STIFFNESS, 1.5, 1e4, 1e-4))
     assert ADAMS_IMPACT_STIFFNESS == pytest.approx(3.162e9, rel=1e-4)
     k = hertz_stiffness(207e9, 0.3, 207e9, 0.3, rb, rs)
-    assert Impact(stiffness=None).encode(R_ball=rb, R_socket=rs)[1][0] == k
+    assert encode_normal(Impact(stiffness=None), ContactGeometry(rb, rs))[1][0] == k
     assert k / ADAMS_IMPACT_STIFFNESS == pytest.approx(42, abs=0.5)  # "42x softer" (g.4)
     soft = Material(70e9, 0.33)
-    k2 = Hertz().encode(R_ball=rb, R_socket=rs, socket_material=soft)[1][0]
+    k2 = encode_normal(Hertz(), ContactGeometry(rb, rs, outer_material=soft))[1][0]
     assert k2 == hertz_stiffness(207e9, 0.3, 70e9, 0.33, rb, rs) and STEEL.E == 207e9
-    code, p = KelvinVoigt(1e8, restitution=0.5).encode(R_ball=rb, R_socket=rs, m_eff=2.0)
+    code, p = encode_normal(KelvinVoigt(1e8, restitution=0.5), ContactGeometry(rb, rs, m_eff=2.0))
     assert p[1] == pytest.approx(kelvin_voigt_damping(1e8, 2.0, 0.5))
-    code, p = LuGre().encode()
+    code, p = encode_friction(LuGre())
     assert code == int(FL.LUGRE)
     assert p.tolist() == [1e5, 316.0, 0.4, 0.1, 0.15, 1e-3, 1e-3, 1.0]
-    assert LuGre(velocity_damping=False, v_d=2e-3).encode()[1][6:].tolist() == [2e-3, 0.0]
-    assert NoFriction().encode()[0] == int(FL.NONE)
-    assert Stribeck().encode()[1][:4].tolist() == [0.15, 0.1, 1e-3, 1e-2]
-    assert Threlfall().encode()[1][:2].tolist() == [0.1, 1e-3]
+    assert encode_friction(LuGre(velocity_damping=False, v_d=2e-3))[1][6:].tolist() == [2e-3, 0.0]
+    assert encode_friction(NoFriction())[0] == int(FL.NONE)
+    assert encode_friction(Stribeck())[1][:4].tolist() == [0.15, 0.1, 1e-3, 1e-2]
+    assert encode_friction(Threlfall())[1][:2].tolist() == [0.1, 1e-3]
 
 
-def test_from_dict_and_round_trip():
-    law = normal_law_from_dict({"law": "flores", "restitution": 0.8})
+def test_parse_law_and_round_trip():
+    law = parse_law({"law": "flores", "restitution": 0.8}, "normal")
     assert law == Flores(restitution=0.8)
-    assert friction_law_from_dict({"law": "lugre", "mu_c": 0.05}) == LuGre(mu_c=0.05)
-    for table in (NORMAL_LAWS, FRICTION_LAWS):
-        for cls in table.values():
+    assert parse_law({"law": "lugre", "mu_c": 0.05}, "friction") == LuGre(mu_c=0.05)
+    for table, kind in ((NORMAL_LAWS, "normal"), (FRICTION_LAWS, "friction")):
+        for name, cls in table.items():
             obj = cls(1e8) if cls is KelvinVoigt else cls()
-            back = (normal_law_from_dict if table is NORMAL_LAWS else friction_law_from_dict)(
-                law_to_dict(obj)
-            )
-            assert back == obj
+            assert law_name(obj) == name  # one spelling in files, attributes and datasets
+            assert parse_law(law_to_dict(obj), kind) == obj
 
 
 @pytest.mark.parametrize(
     ("d", "field", "text"),
     [
-        ({"law": "flor"}, "law", "unknown law"),
-        ({"restitution": 0.9}, "law", "missing"),
-        ({"law": "flores", "restituton": 0.9}, "restituton", "allowed fields"),
-        ({"law": "kelvin_voigt"}, "stiffness", "required"),
-        (["flores"], "law", "mapping"),
+        ({"law": "flor"}, "normal.law", "unknown law"),
+        ({"restitution": 0.9}, "normal.law", "missing"),
+        ({"law": "flores", "restituton": 0.9}, "normal.restituton", "did you mean 'restitution'"),
+        ({"law": "kelvin_voigt"}, "normal.stiffness", "required"),
+        (["flores"], "normal", "expected a table"),
     ],
 )
-def test_from_dict_errors(d, field, text):
+def test_parse_law_errors(d, field, text):
     with pytest.raises(ModelError) as err:
-        normal_law_from_dict(d)
+        parse_law(d, "normal")
     assert err.value.field == field and text in str(err.value)
     with pytest.raises(ModelError, match="unknown law"):
-        friction_law_from_dict({"law": "viscous"})
-    with pytest.raises(ModelError, match="allowed fields"):
-        friction_law_from_dict({"law": "coulomb", "mu_s": 0.2})
+        parse_law({"law": "viscous"}, "friction")
+    with pytest.raises(ModelError, match="unknown key 'mu_s'"):
+        parse_law({"law": "coulomb", "mu_s": 0.2}, "friction")
+
+
+def test_deprecated_law_entry_points_warn_and_agree():
+    """The model-level parsers and `encode` keep working (deprecated), with the new results."""
+    from clearance.model import contact_laws as m
+
+    with pytest.warns(DeprecationWarning):
+        assert m.normal_law_from_dict({"law": "flores"}) == Flores()
+    with pytest.warns(DeprecationWarning):
+        assert m.friction_law_from_dict({"law": "lugre"}) == LuGre()
+    with pytest.warns(DeprecationWarning):
+        code, par = Flores().encode(R_ball=0.015, R_socket=0.0153)
+    ref = encode_normal(Flores(), ContactGeometry(0.015, 0.0153))
+    assert code == ref[0] and np.array_equal(par, ref[1])
+    with pytest.warns(DeprecationWarning):
+        assert encode_friction(LuGre())[0] == LuGre().encode()[0]

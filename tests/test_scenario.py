@@ -85,8 +85,7 @@ def test_shipped_files_validate() -> None:
     assert s.mechanism.params == UpsUpuParams()  # the file states the factory defaults
     assert list(s.clearance.joints) == ["S_1", "S_3"]
     assert s.clearance.initial is InitialPlacement.CENTRED
-    for j in s.clearance.joints.values():
-        c = j.clearance()
+    for c in s.clearance.joints.values():
         assert c.ball_radius == 0.015 and c.c == 0.3e-3 and c.socket == "i"
         assert isinstance(c.normal, cl.Flores) and c.normal.restitution == 0.9
         assert c.friction == cl.LuGre()  # physics.md h.4 defaults
@@ -146,7 +145,7 @@ def test_round_trip_of_defaults_auto_and_socket_radius() -> None:
     )
     s = loads_scenario(text)
     j = s.clearance.joints["S_1"]
-    assert j.socket_radius == 0.0153 and j.radial_clearance is None
+    assert j.socket_radius == 0.0153 and j.given == "socket_radius"  # written back as given
     assert j.normal == cl.Impact(stiffness=None)
     out = scenario_to_toml(s)
     assert 'stiffness = "auto"' in out and "socket_radius = 0.0153" in out
@@ -352,7 +351,7 @@ def test_get_and_set_path(default) -> None:
     assert get_path(d, "clearance.joints.S_1.radial_clearance") == 0.3e-3  # not mutated
     d3 = set_path(d, "clearance.joints.S_1.socket_radius", 0.0155)  # replaces c
     assert "radial_clearance" not in d3["clearance"]["joints"]["S_1"]
-    assert scenario_from_dict(d3).clearance.joints["S_1"].clearance().socket_radius == 0.0155
+    assert scenario_from_dict(d3).clearance.joints["S_1"].socket_radius == 0.0155
     d4 = set_path(d, "mechanism.phi_deg[0]", 80.0)
     assert scenario_from_dict(d4).mechanism.params.phi_deg[0] == 80.0
 
@@ -435,7 +434,7 @@ def test_build_default(default) -> None:
     ci, cc = cl.compile_mechanism(ideal), cl.compile_mechanism(clr)
     assert ci.nrow == 66 and ci.nclr == 0
     assert cc.nrow == 60 and cc.nclr == 2
-    assert clr.joints["S_1"].clearance == default.clearance.joints["S_1"].clearance()
+    assert clr.joints["S_1"].clearance == default.clearance.joints["S_1"]
     assert ideal.joints["S_1"].clearance is None  # the ideal mechanism is not modified
     assert info.actuators == tuple(f"drive_{k}" for k in range(1, 6))
     assert all(d in ideal.drivers for d in info.actuators)
@@ -556,3 +555,12 @@ def test_sps_cu_params_checks() -> None:
         SpsCuParams(column_top=0.5)  # column_length 0.8: the top end is 0.4 above the centre
     with pytest.raises(cl.ModelError, match="limb_model"):
         SpsCuParams(limb_model="three-body")
+
+
+def test_joint_spec_is_a_deprecated_clearance() -> None:
+    """Scenarios hold the model's Clearance; the old JointSpec name still works, warned."""
+    from clearance.scenario import JointSpec
+
+    with pytest.warns(DeprecationWarning):
+        j = JointSpec(ball_radius=0.015, radial_clearance=0.3e-3)
+    assert j.clearance() == cl.Clearance(ball_radius=0.015, radial_clearance=0.3e-3)

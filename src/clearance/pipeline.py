@@ -23,7 +23,7 @@ from clearance.analysis.assembly import assemble, velocity_analysis
 from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
 from clearance.compile.compiled import compile_mechanism
 from clearance.integrate.simulate import simulate
-from clearance.model.bodies import Marker
+from clearance.model.bodies import Marker, quaternion_to_rotation
 from clearance.model.drivers import OffsetDriver
 from clearance.model.mechanism import Mechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
@@ -176,7 +176,7 @@ def place_balls_along_reaction(
         A_s = np.eye(3)
         if sm.body != "ground":
             p = y_ideal[c0.q_slice(sm.body)][3:7]
-            A_s = clearance.Body("tmp", 1.0, orientation=p / np.linalg.norm(p)).rotation
+            A_s = quaternion_to_rotation(p)
         for a in range(3):
             mk = Marker.on_axis(
                 f"__offset_{jn}_{a}", sm.body, sm.position, axis=A_s.T @ np.eye(3)[a]

@@ -22,6 +22,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from clearance.compile.functions import encode_functions
+from clearance.compile.laws import ContactGeometry, encode_friction, encode_normal
 from clearance.contact.joint import NWORK as _NWORK
 from clearance.kinds import (
     AB_I,
@@ -38,6 +39,7 @@ from clearance.kinds import (
     PrimKind,
 )
 from clearance.model.bodies import GROUND
+from clearance.model.contact_laws import law_name
 from clearance.model.drivers import (
     DistanceDriver,
     OffsetDriver,
@@ -466,14 +468,15 @@ def _clearance_arrays(b: _Builder) -> tuple[dict, list]:
         ms, mb = (mi, mj) if cl.socket == "i" else (mj, mi)
         bs, ps, Ts = b.marker(ms)
         bb, pb, _ = b.marker(mb)
-        law, par = cl.normal.encode(
-            R_ball=cl.ball_radius,
-            R_socket=cl.socket_radius,
-            ball_material=cl.ball_material,
-            socket_material=cl.socket_material,
-            m_eff=_effective_mass(mech, ms, mb),
+        geometry = ContactGeometry(
+            cl.ball_radius,
+            cl.socket_radius,
+            cl.ball_material,
+            cl.socket_material,
+            _effective_mass(mech, ms, mb),
         )
-        fric, fpar = cl.friction.encode()
+        law, par = encode_normal(cl.normal, geometry)
+        fric, fpar = encode_friction(cl.friction)
         fs, axs = b.slide(ms)
         fb, axb = b.slide(mb)
         rows.append(
@@ -500,8 +503,8 @@ def _clearance_arrays(b: _Builder) -> tuple[dict, list]:
                 cl.c,
                 cl.ball_radius,
                 cl.socket_radius,
-                type(cl.normal).__name__,
-                type(cl.friction).__name__,
+                law_name(cl.normal),
+                law_name(cl.friction),
             )
         )
     n = len(rows)

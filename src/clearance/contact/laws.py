@@ -46,12 +46,14 @@ Friction laws, `friction_force(law, par, f_n, vt, z) -> (ft, zdot)`:
   The caller keeps z in the tangent plane (z -= (z . n_hat) n_hat) and resets it at
   separation (f.5); friction_force does not know n_hat.
 
-Adding a law: (1) an enum member here with the next code, (2) one pure njit function of
-(par, delta, delta_dot, delta_dot_minus, c) -> (f_n, f_el) (and its energy) plus the one
-`if` line that dispatches to it (numba cannot index a table of functions without losing
-`cache=True`), (3) a frozen dataclass with `encode` in `clearance.model.contact_laws` and
-its entry in NORMAL_LAWS / FRICTION_LAWS. A new member of the dissipative family only needs
-its xi(c_r) line in `hysteresis_factor` and the dataclass.
+Adding a law: (1) an enum member in `clearance.kinds` with the next code, (2) one pure njit
+function of (par, delta, delta_dot, delta_dot_minus, c) -> (f_n, f_el) (and its energy) here
+plus the one `if` line that dispatches to it (numba cannot index a table of functions
+without losing `cache=True`), (3) a frozen dataclass in `clearance.model.contact_laws` with
+its entry in NORMAL_LAWS / FRICTION_LAWS, (4) its encoder in `clearance.compile.laws`. A new
+member of the dissipative family only needs its xi(c_r) line in `hysteresis_factor`, the
+dataclass and the encoder line. Parameters computed from geometry and materials (Hertz
+stiffness, Kelvin-Voigt damping, Winkler modulus) are in `clearance.compile.calibration`.
 
 Under NUMBA_DISABLE_JIT=1 everything runs as plain Python.
 """
@@ -65,9 +67,6 @@ from numba import njit
 
 from clearance.kinds import FrictionLaw, NormalLaw
 from clearance.kinematics.rotations import dot, scale
-
-# The Python helpers raise ValueError, not clearance.model's ModelError: importing the
-# model package from here would make a cycle (model.contact_laws imports this module).
 
 # Plain ints: numba freezes module globals as compile-time constants.
 _HERTZ = int(NormalLaw.HERTZ)
@@ -349,53 +348,3 @@ def friction_force(law, par, f_n, vt, z):
     # Coulomb-type: F_T_vec = mu(|v_t|) F_N t_hat (h.1-h.3); t_hat = v_t/|v_t| is bounded
     ft_mag = friction_steady(law, par, v) * f_n
     return scale(ft_mag / v, (float(vt[0]), float(vt[1]), float(vt[2]))), zero
-
-
-# --------------------------------------------------------------------------- Python helpers
-
-
-def hertz_stiffness(
-    E_ball: float, nu_ball: float, E_socket: float, nu_socket: float, R_ball: float, R_socket: float
-) -> float:
-    """Internal (ball-in-socket) Hertz stiffness K [N/m^1.5] (physics.md g.1, RECALLED).
-
-    K = (4/3) E* sqrt(R*), 1/E* = (1 - nu_b^2)/E_b + (1 - nu_s^2)/E_s,
-    R* = R_b R_s / (R_s - R_b) (conformal contact). E in Pa, R in m; needs R_socket > R_ball.
-    """
-    if not R_socket > R_ball > 0.0:
-        raise ValueError(
-            f"hertz_stiffness: R_socket = {R_socket!r} must exceed R_ball = {R_ball!r} > 0"
-        )
-    e_star = 1.0 / ((1.0 - nu_ball**2) / E_ball + (1.0 - nu_socket**2) / E_socket)
-    r_star = R_ball * R_socket / (R_socket - R_ball)
-    return 4.0 / 3.0 * e_star * math.sqrt(r_star)
-
-
-def kelvin_voigt_damping(K_l: float, m_eff: float, c_r: float) -> float:
-    """Damping D [N s/m] giving restitution c_r to the unclamped linear oscillator (g.3).
-
-    D = 2 zeta sqrt(m_eff K_l), zeta = -ln c_r / sqrt(pi^2 + ln^2 c_r) (DERIVED, exact).
-    """
-    if not 0.0 < c_r <= 1.0:
-        raise ValueError(f"kelvin_voigt_damping: c_r = {c_r!r}; expected 0 < c_r <= 1")
-    lc = math.log(c_r)
-    zeta = -lc / math.sqrt(math.pi**2 + lc * lc)
-    return 2.0 * zeta * math.sqrt(m_eff * K_l)
-
-
-def winkler_kf(K: float, R: float, c: float, delta_ref: float, *, form: int = 1) -> float:
-    """Winkler modulus k_f [N/m^3] calibrated to Hertz at delta_ref [m] (g.6, PROPOSED).
-
-    form 1: F_el(delta_ref) = K delta_ref^1.5 (physics.md g.6).
-    form 2: K_n(delta_ref) = K numerically, i.e. the swapped stiffness equals the Hertz K at
-    delta_ref, so Form 2's force K_n delta^1.5 equals K delta^1.5 there (PROPOSED: Form 2
-    is not homogeneous, so Form 1's k_f would make it ~delta^0.5 times weaker).
-    The equivalent layer thickness is h_eq = E*/k_f.
-    """
-    if not delta_ref > 0.0:
-        raise ValueError(f"winkler_kf: delta_ref = {delta_ref!r}; expected a penetration > 0")
-    if form == 1:
-        return K * delta_ref**1.5 / float(winkler_fel(1.0, R, c, delta_ref))
-    if form == 2:
-        return K / float(winkler_kn(1.0, R, c, delta_ref))
-    raise ValueError(f"winkler_kf: form = {form!r}; expected 1 or 2")

@@ -10,7 +10,7 @@ marker's point) until they touch. `socket` says which marker's body holds the so
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -60,6 +60,8 @@ class Clearance:
     socket_material: Material = STEEL
     velocity_floor: float = 1e-4
     onset_tolerance: float = 1e-3
+    # which of socket_radius / radial_clearance the user gave (files write that one back)
+    given: str = field(default="radial_clearance", init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         who = "Clearance"
@@ -84,6 +86,9 @@ class Clearance:
         else:
             c = _pos(who, "radial_clearance", self.radial_clearance)  # kept exactly as given
             rs = rb + c
+        object.__setattr__(
+            self, "given", "socket_radius" if self.radial_clearance is None else "radial_clearance"
+        )
         object.__setattr__(self, "ball_radius", rb)
         object.__setattr__(self, "socket_radius", rs)
         object.__setattr__(self, "radial_clearance", c)

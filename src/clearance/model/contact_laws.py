@@ -1,27 +1,25 @@
 """Normal-contact and friction laws of a clearance joint, as the user describes them.
 
-Frozen, validated dataclasses (physics.md g, h). Each knows its compiled code and parameter
-layout: `encode(...) -> (int code, float64 par of length NPAR)` for
-`clearance.contact.laws` (layouts in that module's docstring). Normal laws:
+Frozen, validated dataclasses (physics.md g, h): every field is checked when the law is
+made, and an invalid value raises ModelError naming the law, the field and what is allowed.
 
     normal = Flores(restitution=0.9)               # stiffness from materials (Hertz, g.1)
     normal = Hertz(stiffness=1.33e11)              # K [N/m^1.5] given
     normal = NonlinearStiffness(form=1)            # g.6 reconstruction, calibrated to Hertz
+    friction = LuGre(mu_c=0.05)
 
-    code, par = normal.encode(R_ball=0.015, R_socket=0.0153)   # materials default to STEEL
+This module only describes: the compiled code and parameter array of a law are made by
+`clearance.compile.laws.encode_normal` / `encode_friction` when a mechanism is compiled.
 
-Friction laws encode without geometry: `code, par = LuGre().encode()`.
+File boundary: NORMAL_LAWS / FRICTION_LAWS map the registry names written in scenario files,
+result attributes and datasets ("flores", "lugre", ...) to the classes; `law_name(law)` and
+`law_to_dict(law)` give a law's name and its {law = name, field = value} table. Files are
+parsed by the scenario's law parser (`clearance.scenario.schema.parse_law`).
 
-File boundary: strings live only here. `normal_law_from_dict({"law": "flores",
-"restitution": 0.8})` and `friction_law_from_dict({"law": "lugre", "mu_c": 0.05})` look the
-name up in NORMAL_LAWS / FRICTION_LAWS and pass the other keys as fields; unknown names or
-fields raise ModelError naming them. `law_to_dict(law)` is the inverse.
-
-Adding a law: write its pure njit function in `clearance.contact.laws` (with an enum
-member and its dispatch line, see there), then one dataclass here whose `_par` returns the
-parameter array, and one entry in NORMAL_LAWS or FRICTION_LAWS. A new member of the g.2
-dissipative family is only `class MyLaw(_Dissipative): law = NormalLaw.MY_LAW` plus its
-xi(c_r) line in `hysteresis_factor`.
+Adding a law: its kernel in `clearance.contact.laws` (with its code in `clearance.kinds`),
+one dataclass here with its entry in NORMAL_LAWS or FRICTION_LAWS, and its encoder in
+`clearance.compile.laws`. A new member of the g.2 dissipative family is only
+`class MyLaw(_Dissipative)` plus its xi(c_r) line in `contact.laws.hysteresis_factor`.
 """
 
 from __future__ import annotations
@@ -29,13 +27,12 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+import warnings
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 
-from clearance.contact.laws import hertz_stiffness, kelvin_voigt_damping, winkler_kf
-from clearance.kinds import NPAR, FrictionLaw, NormalLaw
 from clearance.model.errors import ModelError
 
 # ADAMS IMPACT default stiffness 1e5 N/mm^1.5 in SI (physics.md g.4, RECALLED).
@@ -81,12 +78,6 @@ def _set(obj: object, name: str, value: object) -> None:
     object.__setattr__(obj, name, value)
 
 
-def _pack(*values: float) -> np.ndarray:
-    par = np.zeros(NPAR, dtype=np.float64)
-    par[: len(values)] = values
-    return par
-
-
 @dataclass(frozen=True)
 class Material:
     """Elastic material: Young's modulus E [Pa] and Poisson's ratio nu [-]."""
@@ -111,9 +102,7 @@ STEEL = Material(207e9, 0.3)  # physics.md g.1
 
 @dataclass(frozen=True)
 class NormalContactLaw:
-    """Base of the normal contact laws; `law` is the compiled NormalLaw code."""
-
-    law: ClassVar[NormalLaw]
+    """Base of the normal contact laws."""
 
     def encode(
         self,
@@ -124,28 +113,17 @@ class NormalContactLaw:
         socket_material: Material = STEEL,
         m_eff: float | None = None,
     ) -> tuple[int, np.ndarray]:
-        """(NormalLaw code, par (NPAR,)) for a ball of radius R_ball in a socket of radius
-        R_socket [m]; materials give the Hertz stiffness when `stiffness` is None; m_eff [kg]
-        is used by KelvinVoigt when its damping comes from the restitution."""
-        who = type(self).__name__
-        rb = _positive(who, "R_ball", R_ball)
-        rs = _real(who, "R_socket", R_socket, lo=rb, allowed=f"must exceed R_ball = {rb} m")
-        return int(self.law), self._par(rb, rs, ball_material, socket_material, m_eff)
+        """Deprecated: use `clearance.compile.laws.encode_normal(law, ContactGeometry(...))`."""
+        warnings.warn(
+            "NormalContactLaw.encode is deprecated; use "
+            "clearance.compile.laws.encode_normal(law, ContactGeometry(...))",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        from clearance.compile.laws import ContactGeometry, encode_normal  # deprecated shim
 
-    def _par(
-        self, R_ball: float, R_socket: float, ball: Material, socket: Material, m_eff: float | None
-    ) -> np.ndarray:
-        raise NotImplementedError
-
-    def _stiffness(self, R_ball: float, R_socket: float, ball: Material, socket: Material) -> float:
-        """The user's stiffness, or the internal Hertz K of physics.md g.1."""
-        k = getattr(self, "stiffness", None)
-        if k is not None:
-            return float(k)
-        for name, m in (("ball_material", ball), ("socket_material", socket)):
-            if not isinstance(m, Material):
-                raise ModelError(type(self).__name__, name, m, "expected a Material(E, nu)")
-        return hertz_stiffness(ball.E, ball.nu, socket.E, socket.nu, R_ball, R_socket)
+        g = ContactGeometry(R_ball, R_socket, ball_material, socket_material, m_eff)
+        return encode_normal(self, g)
 
 
 def _validate_power(obj: Any) -> None:
@@ -162,13 +140,9 @@ class Hertz(NormalContactLaw):
 
     stiffness: float | None = None
     exponent: float = 1.5
-    law: ClassVar[NormalLaw] = NormalLaw.HERTZ
 
     def __post_init__(self) -> None:
         _validate_power(self)
-
-    def _par(self, R_ball, R_socket, ball, socket, m_eff):
-        return _pack(self._stiffness(R_ball, R_socket, ball, socket), self.exponent)
 
 
 @dataclass(frozen=True)
@@ -184,65 +158,45 @@ class _Dissipative(NormalContactLaw):
         _validate_power(self)
         _set(self, "restitution", _restitution(type(self).__name__, self.restitution))
 
-    def _par(self, R_ball, R_socket, ball, socket, m_eff):
-        k = self._stiffness(R_ball, R_socket, ball, socket)
-        return _pack(k, self.exponent, self.restitution)
-
 
 @dataclass(frozen=True)
 class HuntCrossley(_Dissipative):
     """Hunt & Crossley 1975: xi = 3(1 - c_r)/2 (g.2, SOURCED)."""
-
-    law: ClassVar[NormalLaw] = NormalLaw.HUNT_CROSSLEY
 
 
 @dataclass(frozen=True)
 class LankaraniNikravesh(_Dissipative):
     """Lankarani & Nikravesh 1990: xi = 3(1 - c_r^2)/4 (g.2, SOURCED)."""
 
-    law: ClassVar[NormalLaw] = NormalLaw.LANKARANI_NIKRAVESH
-
 
 @dataclass(frozen=True)
 class Flores(_Dissipative):
     """Flores et al. 2011: xi = 8(1 - c_r)/(5 c_r) (g.2, SOURCED; Papers A and B)."""
-
-    law: ClassVar[NormalLaw] = NormalLaw.FLORES
 
 
 @dataclass(frozen=True)
 class Gonthier(_Dissipative):
     """Gonthier et al. 2004: xi = (1 - c_r^2)/c_r (g.2, SOURCED)."""
 
-    law: ClassVar[NormalLaw] = NormalLaw.GONTHIER
-
 
 @dataclass(frozen=True)
 class HuGuo(_Dissipative):
     """Hu & Guo 2015: xi = 3(1 - c_r)/(2 c_r) (g.2, RECALLED; not DyS's 3(1-c_r)/(4 c_r))."""
-
-    law: ClassVar[NormalLaw] = NormalLaw.HU_GUO
 
 
 @dataclass(frozen=True)
 class HerbertMcWhannell(_Dissipative):
     """Herbert & McWhannell 1977: xi = 6(1 - c_r)/((2 c_r - 1)^2 + 3) (g.2, SOURCED)."""
 
-    law: ClassVar[NormalLaw] = NormalLaw.HERBERT_MCWHANNELL
-
 
 @dataclass(frozen=True)
 class LeeWang(_Dissipative):
     """Lee & Wang 1983: xi = 3(1 - c_r)/4 (g.2, SOURCED)."""
 
-    law: ClassVar[NormalLaw] = NormalLaw.LEE_WANG
-
 
 @dataclass(frozen=True)
 class ZhiyingQishao(_Dissipative):
     """Zhiying & Qishao 2006: xi = (3/4)(1 - c_r^2) exp(2(1 - c_r)) (g.2, SOURCED)."""
-
-    law: ClassVar[NormalLaw] = NormalLaw.ZHIYING_QISHAO
 
 
 @dataclass(frozen=True)
@@ -258,7 +212,6 @@ class KelvinVoigt(NormalContactLaw):
     damping: float | None = None
     restitution: float = 0.9
     effective_mass: float | None = None
-    law: ClassVar[NormalLaw] = NormalLaw.KELVIN_VOIGT
 
     def __post_init__(self) -> None:
         who = "KelvinVoigt"
@@ -268,20 +221,6 @@ class KelvinVoigt(NormalContactLaw):
         _set(self, "restitution", _restitution(who, self.restitution))
         if self.effective_mass is not None:
             _set(self, "effective_mass", _positive(who, "effective_mass", self.effective_mass))
-
-    def _par(self, R_ball, R_socket, ball, socket, m_eff):
-        if self.damping is not None:
-            return _pack(self.stiffness, self.damping)
-        m = self.effective_mass if self.effective_mass is not None else m_eff
-        if m is None or not (math.isfinite(m) and m > 0.0):
-            raise ModelError(
-                "KelvinVoigt",
-                "effective_mass",
-                m,
-                "give damping, or a finite effective_mass > 0 for the "
-                "restitution-based damping (physics.md g.3)",
-            )
-        return _pack(self.stiffness, kelvin_voigt_damping(self.stiffness, m, self.restitution))
 
 
 @dataclass(frozen=True)
@@ -298,7 +237,6 @@ class Impact(NormalContactLaw):
     exponent: float = 1.5
     cmax: float = 1e4
     penetration_depth: float = 1e-4
-    law: ClassVar[NormalLaw] = NormalLaw.IMPACT
 
     def __post_init__(self) -> None:
         _validate_power(self)
@@ -308,10 +246,6 @@ class Impact(NormalContactLaw):
             "penetration_depth",
             _positive("Impact", "penetration_depth", self.penetration_depth),
         )
-
-    def _par(self, R_ball, R_socket, ball, socket, m_eff):
-        k = self._stiffness(R_ball, R_socket, ball, socket)
-        return _pack(k, self.exponent, self.cmax, self.penetration_depth)
 
 
 @dataclass(frozen=True)
@@ -323,7 +257,7 @@ class NonlinearStiffness(NormalContactLaw):
     form 2 ("stiffness swap", not homogeneous): F_N = K_n(delta) delta^1.5 [1 + xi ...].
     k_f: Winkler modulus [N/m^3]; None = calibrate (PROPOSED) so that the form's elastic
     force equals stiffness * delta_ref^1.5 at delta_ref [m] (default 5e-6 m), stiffness
-    [N/m^1.5] defaulting to the internal Hertz K (see `clearance.contact.laws.winkler_kf`).
+    [N/m^1.5] defaulting to the internal Hertz K (see `clearance.compile.calibration.winkler_kf`).
     The foundation radius R is the ball radius (the reconstruction is O(c/R) anyway).
     """
 
@@ -353,44 +287,29 @@ class NonlinearStiffness(NormalContactLaw):
             if getattr(self, name) is not None:
                 _set(self, name, _positive(who, name, getattr(self, name)))
 
-    @property
-    def law(self) -> NormalLaw:  # type: ignore[override]
-        return NormalLaw.WINKLER_FORM1 if self.form == 1 else NormalLaw.WINKLER_FORM2
-
-    def _par(self, R_ball, R_socket, ball, socket, m_eff):
-        k_f = self.k_f
-        if k_f is None:
-            k = self._stiffness(R_ball, R_socket, ball, socket)
-            d_ref = self.delta_ref if self.delta_ref is not None else DEFAULT_DELTA_REF
-            k_f = winkler_kf(k, R_ball, R_socket - R_ball, d_ref, form=self.form)
-        return _pack(k_f, R_ball, self.restitution)
-
 
 # --------------------------------------------------------------------------- friction laws
 
 
 @dataclass(frozen=True)
 class FrictionContactLaw:
-    """Base of the friction laws; `law` is the compiled FrictionLaw code."""
-
-    law: ClassVar[FrictionLaw]
+    """Base of the friction laws."""
 
     def encode(self) -> tuple[int, np.ndarray]:
-        """(FrictionLaw code, par (NPAR,)) for `clearance.contact.laws.friction_force`."""
-        return int(self.law), self._par()
+        """Deprecated: use `clearance.compile.laws.encode_friction(law)`."""
+        warnings.warn(
+            "FrictionContactLaw.encode is deprecated; use clearance.compile.laws.encode_friction",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        from clearance.compile.laws import encode_friction  # deprecated shim
 
-    def _par(self) -> np.ndarray:
-        raise NotImplementedError
+        return encode_friction(self)
 
 
 @dataclass(frozen=True)
 class NoFriction(FrictionContactLaw):
     """Frictionless contact."""
-
-    law: ClassVar[FrictionLaw] = FrictionLaw.NONE
-
-    def _par(self):
-        return _pack()
 
 
 @dataclass(frozen=True)
@@ -406,10 +325,6 @@ class Coulomb(FrictionContactLaw):
     v1: float = 1e-3
     ramp: str = "linear"
 
-    @property
-    def law(self) -> FrictionLaw:  # type: ignore[override]
-        return FrictionLaw.COULOMB if self.ramp == "linear" else FrictionLaw.COULOMB_SMOOTH
-
     def __post_init__(self) -> None:
         _set(self, "mu", _nonneg("Coulomb", "mu", self.mu))
         _set(self, "v0", _nonneg("Coulomb", "v0", self.v0))
@@ -421,9 +336,6 @@ class Coulomb(FrictionContactLaw):
         if self.ramp not in ("linear", "cubic"):
             raise ModelError("Coulomb", "ramp", self.ramp, "expected 'linear' or 'cubic'")
 
-    def _par(self):
-        return _pack(self.mu, self.v0, self.v1)
-
 
 @dataclass(frozen=True)
 class Threlfall(FrictionContactLaw):
@@ -431,14 +343,10 @@ class Threlfall(FrictionContactLaw):
 
     mu: float = 0.1
     v0: float = 1e-3
-    law: ClassVar[FrictionLaw] = FrictionLaw.THRELFALL
 
     def __post_init__(self) -> None:
         _set(self, "mu", _nonneg("Threlfall", "mu", self.mu))
         _set(self, "v0", _positive("Threlfall", "v0", self.v0))
-
-    def _par(self):
-        return _pack(self.mu, self.v0)
 
 
 @dataclass(frozen=True)
@@ -450,7 +358,6 @@ class Stribeck(FrictionContactLaw):
     mu_d: float = 0.1
     v_s: float = 1e-3
     v_tr: float = 1e-2
-    law: ClassVar[FrictionLaw] = FrictionLaw.STRIBECK
 
     def __post_init__(self) -> None:
         _set(self, "mu_s", _nonneg("Stribeck", "mu_s", self.mu_s))
@@ -467,9 +374,6 @@ class Stribeck(FrictionContactLaw):
                 allowed=f"must exceed v_s = {self.v_s} m/s",
             ),
         )
-
-    def _par(self):
-        return _pack(self.mu_s, self.mu_d, self.v_s, self.v_tr)
 
 
 @dataclass(frozen=True)
@@ -489,7 +393,6 @@ class LuGre(FrictionContactLaw):
     v_s: float = 1e-3
     velocity_damping: bool = True
     v_d: float | None = None
-    law: ClassVar[FrictionLaw] = FrictionLaw.LUGRE
 
     def __post_init__(self) -> None:
         _set(self, "sigma0", _positive("LuGre", "sigma0", self.sigma0))
@@ -504,19 +407,6 @@ class LuGre(FrictionContactLaw):
             )
         if self.v_d is not None:
             _set(self, "v_d", _positive("LuGre", "v_d", self.v_d))
-
-    def _par(self):
-        v_d = self.v_s if self.v_d is None else self.v_d
-        return _pack(
-            self.sigma0,
-            self.sigma1,
-            self.sigma2,
-            self.mu_c,
-            self.mu_s,
-            self.v_s,
-            v_d,
-            1.0 if self.velocity_damping else 0.0,
-        )
 
 
 # --------------------------------------------------------------------------- file boundary
@@ -545,45 +435,38 @@ FRICTION_LAWS: dict[str, type[FrictionContactLaw]] = {
 }
 
 
-def _from_dict(d: object, table: dict[str, type], kind: str) -> Any:
-    if not isinstance(d, dict):
-        raise ModelError(kind, "law", d, "expected a mapping with a 'law' key")
-    if "law" not in d:
-        raise ModelError(kind, "law", None, f"missing; expected one of {sorted(table)}")
-    name = d["law"]
-    cls = table.get(name) if isinstance(name, str) else None
-    if cls is None:
-        raise ModelError(kind, "law", name, f"unknown law; expected one of {sorted(table)}")
-    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
-    kwargs = {k: v for k, v in d.items() if k != "law"}
-    for key, value in kwargs.items():
-        if key not in fields:
-            raise ModelError(
-                cls.__name__, key, value, f"unknown field; allowed fields: {sorted(fields)}"
-            )
-    for fname, f in fields.items():
-        missing = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
-        if missing and fname not in kwargs:
-            raise ModelError(cls.__name__, fname, None, "required field is missing")
-    return cls(**kwargs)
+def _parse(d: object, kind: str):
+    warnings.warn(
+        f"{kind}_law_from_dict is deprecated; use clearance.scenario.schema.parse_law",
+        DeprecationWarning,
+        stacklevel=3,
+    )
+    from clearance.scenario.schema import parse_law  # deprecated shim
+
+    return parse_law(d, kind)
 
 
 def normal_law_from_dict(d: dict) -> NormalContactLaw:
-    """{"law": "flores", "restitution": 0.9, ...} -> Flores(restitution=0.9, ...)."""
-    return _from_dict(d, NORMAL_LAWS, "normal law")
+    """Deprecated: `clearance.scenario.schema.parse_law(d, "normal")`."""
+    return _parse(d, "normal")
 
 
 def friction_law_from_dict(d: dict) -> FrictionContactLaw:
-    """{"law": "lugre", "mu_c": 0.1, ...} -> LuGre(mu_c=0.1, ...)."""
-    return _from_dict(d, FRICTION_LAWS, "friction law")
+    """Deprecated: `clearance.scenario.schema.parse_law(d, "friction")`."""
+    return _parse(d, "friction")
 
 
-def law_to_dict(law: NormalContactLaw | FrictionContactLaw) -> dict:
-    """The inverse of *_law_from_dict: {"law": name, field: value, ...}."""
+def law_name(law: NormalContactLaw | FrictionContactLaw) -> str:
+    """The registry name of a law ("flores", "lugre", ...): the spelling of files and datasets."""
     for table in (NORMAL_LAWS, FRICTION_LAWS):
         for name, cls in table.items():
             if type(law) is cls:
-                out = {"law": name}
-                out.update({f.name: getattr(law, f.name) for f in dataclasses.fields(law)})
-                return out
-    raise ModelError("law_to_dict", "law", law, "expected a registered contact or friction law")
+                return name
+    raise ModelError("law_name", "law", law, "expected a registered contact or friction law")
+
+
+def law_to_dict(law: NormalContactLaw | FrictionContactLaw) -> dict:
+    """The table of a law as written in files: {"law": name, field: value, ...}."""
+    out: dict = {"law": law_name(law)}
+    out.update({f.name: getattr(law, f.name) for f in dataclasses.fields(law)})
+    return out

@@ -126,7 +126,7 @@ def _with_clearances(ideal: Mechanism, s: Scenario) -> Mechanism:
     """The scenario's clearance mechanism: the ideal one with its clearance joints."""
     clr = ideal.copy()
     for name, joint in s.clearance.joints.items():
-        clr = clr.with_clearance(name, joint.clearance())
+        clr = clr.with_clearance(name, joint)
     clr.name = f"{s.name} (clearance)"
     return clr
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
@@ -32,10 +33,8 @@ from clearance.model.contact_laws import (
     NORMAL_LAWS,
     STEEL,
     Flores,
-    FrictionContactLaw,
     Material,
     NoFriction,
-    NormalContactLaw,
 )
 from clearance.model.errors import ModelError
 from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_mean
@@ -56,6 +55,7 @@ __all__ = [
     "SolverSpec",
     "TrajectoryShape",
     "TrajectorySpec",
+    "parse_law",
     "scenario_from_dict",
 ]
 
@@ -229,31 +229,26 @@ class TrajectorySpec:
         return 2.0 * math.pi / self.period
 
 
-@dataclass(frozen=True)
-class JointSpec:
-    """One clearance joint as written in the file (exactly one of socket_radius and
-    radial_clearance is set); `clearance()` gives the model's `Clearance`."""
+class JointSpec(Clearance):
+    """Deprecated: a scenario's clearance joint is the model's `Clearance` itself
+    (`ClearanceSpec.joints` maps joint names to Clearance objects)."""
 
-    ball_radius: float
-    radial_clearance: float | None = None
-    socket_radius: float | None = None
-    socket: str = "i"
-    normal: NormalContactLaw = Flores()
-    friction: FrictionContactLaw = NoFriction()
-    ball_material: Material = STEEL
-    socket_material: Material = STEEL
-    velocity_floor: float = 1e-4
-    onset_tolerance: float = 1e-3
+    def __post_init__(self) -> None:
+        warnings.warn(
+            "JointSpec is deprecated; use clearance.Clearance", DeprecationWarning, stacklevel=3
+        )
+        super().__post_init__()
 
     def clearance(self) -> Clearance:
-        kw = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        kw = {f.name: getattr(self, f.name) for f in dataclasses.fields(Clearance) if f.init}
+        kw["socket_radius" if self.given == "radial_clearance" else "radial_clearance"] = None
         return Clearance(**kw)
 
 
 @dataclass(frozen=True)
 class ClearanceSpec:
     initial: InitialPlacement = InitialPlacement.CENTRED
-    joints: dict = field(default_factory=dict)  # joint name -> JointSpec
+    joints: dict = field(default_factory=dict)  # joint name -> Clearance
 
 
 @dataclass(frozen=True)
@@ -376,8 +371,23 @@ def _law(value: object, registry: Mapping[str, type], path: str, problems: Probl
         if no_default and fname not in kwargs:
             problems.add(f"{path}.{fname}", MISSING, f"required field of law '{name}' is missing")
             ok = False
-    law = _construct(cls, kwargs, path, problems)
-    return law if ok else None
+    if not ok:  # a required field is missing: the other fields are not checked against it
+        return None
+    return _construct(cls, kwargs, path, problems)
+
+
+def parse_law(d: object, kind: str, *, source: str = "<dict>") -> Any:
+    """A normal (kind "normal") or friction (kind "friction") law from its file table
+    {law = "name", field = value, ...}; ScenarioError naming every problem (field paths
+    start with `kind`, e.g. "normal.restitution"). The one parser of law tables: scenario
+    files use it for their [clearance.joints.*] laws."""
+    registries = {"normal": NORMAL_LAWS, "friction": FRICTION_LAWS}
+    if kind not in registries:
+        raise ValueError(f"parse_law: kind = {kind!r}; expected 'normal' or 'friction'")
+    problems = Problems(source)
+    law = _law(d, registries[kind], kind, problems)
+    problems.raise_if_any()
+    return law
 
 
 def _material(value: object, path: str, problems: Problems) -> Material | None:
@@ -394,7 +404,7 @@ def _material(value: object, path: str, problems: Problems) -> Material | None:
     return _construct(Material, {k: t[k] for k in MATERIAL_FIELDS}, path, problems)
 
 
-def _joint(value: object, path: str, problems: Problems) -> JointSpec | None:
+def _joint(value: object, path: str, problems: Problems) -> Clearance | None:
     t = table_at(value, path, problems)
     if t is None:
         return None
@@ -418,15 +428,13 @@ def _joint(value: object, path: str, problems: Problems) -> JointSpec | None:
         )
     if len(problems) > n0:
         return None
-    if _construct(Clearance, kw, path, problems) is None:  # cross checks (radii, tolerance)
-        return None
-    return JointSpec(**kw)
+    return _construct(Clearance, kw, path, problems)  # with the cross checks (radii, tolerance)
 
 
 def _clearance(t: dict, kind: MechanismKind | None, problems: Problems) -> ClearanceSpec | None:
     n0 = len(problems)
     kw = parse_table(t, CLEARANCE_FIELDS, "clearance", problems, extra=("joints",))
-    joints: dict[str, JointSpec] = {}
+    joints: dict[str, Clearance] = {}
     jt = table_at(t.get("joints", {}), "clearance.joints", problems)
     for name, value in (jt or {}).items():
         path = f"clearance.joints.{name}"

@@ -8,8 +8,9 @@ from __future__ import annotations
 import dataclasses
 from enum import Enum
 
+from clearance.model.clearance import Clearance
 from clearance.model.contact_laws import FrictionContactLaw, NormalContactLaw, law_to_dict
-from clearance.scenario.schema import AUTO, JointSpec, Scenario
+from clearance.scenario.schema import AUTO, Scenario
 
 __all__ = ["law_dict", "scenario_to_dict"]
 
@@ -36,12 +37,8 @@ def law_dict(law: NormalContactLaw | FrictionContactLaw) -> dict[str, object]:
     return out
 
 
-def _joint_dict(j: JointSpec) -> dict[str, object]:
-    out: dict[str, object] = {"ball_radius": j.ball_radius}
-    if j.radial_clearance is not None:
-        out["radial_clearance"] = j.radial_clearance
-    else:
-        out["socket_radius"] = j.socket_radius
+def _joint_dict(j: Clearance) -> dict[str, object]:
+    out: dict[str, object] = {"ball_radius": j.ball_radius, j.given: getattr(j, j.given)}
     out.update(socket=j.socket, velocity_floor=j.velocity_floor, onset_tolerance=j.onset_tolerance)
     out["normal"] = law_dict(j.normal)
     out["friction"] = law_dict(j.friction)
