@@ -28,11 +28,11 @@ from clearance.dynamics.rhs import rhs  # noqa: E402
 # `rhs` would keep running an old kernel after the package changes. Compiling it costs a
 # few seconds per run, reported apart as first-call time.
 @numba.njit(cache=False)
-def rhs_loop(n, t, y, model, wk, alpha, beta, solver, out):  # pragma: no cover - compiled
+def rhs_loop(n, t, y, model, wk, cs, alpha, beta, solver, out):  # pragma: no cover - compiled
     """Call the kernel n times from compiled code: its cost without Python dispatch."""
     s = 0
     for _ in range(n):
-        s += rhs(t, y, model, wk, alpha, beta, solver, out)
+        s += rhs(t, y, model, wk, cs, alpha, beta, solver, out)
     return s
 
 

@@ -32,6 +32,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import clearance as cl
+from clearance.contact.element import make_contact_state
 from clearance.dynamics.reference import reference_rhs
 from clearance.dynamics.rhs import make_work, rhs
 from clearance.kinds import Solver
@@ -67,6 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     y0 = cl.initial_state(c, t=0.0)  # assembled positions, consistent velocities
     model = c.model
     wk = make_work(model)
+    cs = make_contact_state(model)
     out = np.zeros_like(y0)
     rep = cl.rank_check(c, 0.0, y0)
     print(
@@ -77,13 +79,13 @@ def main(argv: list[str] | None = None) -> int:
 
     warm = {}
     t0 = time.perf_counter()
-    rhs(0.0, y0, model, wk, ALPHA, BETA, int(Solver.SCHUR), out)
+    rhs(0.0, y0, model, wk, cs, ALPHA, BETA, int(Solver.SCHUR), out)
     warm["rhs, Schur (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    rhs(0.0, y0, model, wk, ALPHA, BETA, int(Solver.DENSE), out)
+    rhs(0.0, y0, model, wk, cs, ALPHA, BETA, int(Solver.DENSE), out)
     warm["rhs, dense (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    rhs_loop(1, 0.0, y0, model, wk, ALPHA, BETA, 0, out)
+    rhs_loop(1, 0.0, y0, model, wk, cs, ALPHA, BETA, 0, out)
     warm["rhs called from an @njit loop (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     cl.simulate(c, min(t_end, 0.01), rtol=RTOL, atol=ATOL, baumgarte=(ALPHA, BETA), solver="schur")
@@ -91,10 +93,10 @@ def main(argv: list[str] | None = None) -> int:
 
     # ------------------------------------------------------------ per right-hand side
     def k_schur() -> None:
-        rhs(0.0, y0, model, wk, ALPHA, BETA, 0, out)
+        rhs(0.0, y0, model, wk, cs, ALPHA, BETA, 0, out)
 
     def k_dense() -> None:
-        rhs(0.0, y0, model, wk, ALPHA, BETA, 1, out)
+        rhs(0.0, y0, model, wk, cs, ALPHA, BETA, 1, out)
 
     f_scipy = cl.scipy_rhs(c, baumgarte=(ALPHA, BETA), solver="schur")
 
@@ -109,7 +111,7 @@ def main(argv: list[str] | None = None) -> int:
     n_ref = max(3, int(0.5 / t_ref1))  # about 0.5 s per repeat
 
     def in_loop(solver: int, n: int) -> tuple[float, float]:
-        fn = lambda: rhs_loop(n, 0.0, y0, model, wk, ALPHA, BETA, solver, out)  # noqa: E731
+        fn = lambda: rhs_loop(n, 0.0, y0, model, wk, cs, ALPHA, BETA, solver, out)  # noqa: E731
         med, best = median_time(fn, reps)
         return med / n, best / n
 

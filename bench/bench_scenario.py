@@ -40,11 +40,13 @@ import numpy as np
 
 import clearance as cl
 from clearance.analysis.ik import apply_drives, drives_from_ik, inverse_kinematics
+from clearance.contact.element import make_contact_state
 from clearance.dynamics.reference_contact import (
     reference_rhs_clearance,
     solve_ivp_clearance,
 )
 from clearance.dynamics.rhs import make_work, rhs
+from clearance.layout import CO_FN
 from clearance.scenario import (
     build_mechanisms,
     default_scenario_path,
@@ -104,12 +106,13 @@ def main(argv: list[str] | None = None) -> int:
     warm = {}
     y0 = cl.initial_state(c)
     wk = make_work(model)
+    cs = make_contact_state(model)
     out = np.zeros_like(y0)
     t0 = time.perf_counter()
-    rhs(0.0, y0, model, wk, alpha, beta, 0, out)
+    rhs(0.0, y0, model, wk, cs, alpha, beta, 0, out)
     warm["rhs kernel (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    rhs_loop(1, 0.0, y0, model, wk, alpha, beta, 0, out)
+    rhs_loop(1, 0.0, y0, model, wk, cs, alpha, beta, 0, out)
     warm["rhs called from an @njit loop (first call)"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     cl.simulate(c, 0.005, **kw)
@@ -149,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
 
     # ------------------------------------------------------------ per right-hand side
     # a state in contact from the run: the sample with the largest normal force
-    k = int(np.argmax(r.contact[:, :, 5].max(axis=1)))
+    k = int(np.argmax(r.contact[:, :, CO_FN].max(axis=1)))
     y = np.zeros(c.ny)
     y[: c.nq] = r.q[k]
     y[c.nq : c.nq + c.nv] = r.v[k]
@@ -157,18 +160,18 @@ def main(argv: list[str] | None = None) -> int:
     tk = float(r.t[k])
     flags = r.contact_state[k, :, 0].astype(bool)
     ddm = r.contact_state[k, :, 1].copy()
-    wk.cflag[:] = flags
-    wk.cddm[:] = ddm
+    cs.flag[:] = flags
+    cs.ddm[:] = ddm
 
     def kernel() -> None:
-        rhs(tk, y, model, wk, alpha, beta, 0, out)
+        rhs(tk, y, model, wk, cs, alpha, beta, 0, out)
 
     def numpy_rhs() -> np.ndarray:
         return reference_rhs_clearance(
             mech, tk, y, alpha=alpha, beta=beta, in_contact=flags, delta_dot_minus=ddm
         )[0]
 
-    f_scipy = cl.scipy_rhs(c, baumgarte=(alpha, beta), solver="schur")
+    f_scipy = cl.scipy_rhs(c, baumgarte=(alpha, beta), solver="schur", contact_state=cs)
     kernel()
     yd_ref = numpy_rhs()
     agree = float(np.max(np.abs(out - yd_ref)) / np.max(np.abs(yd_ref)))
@@ -176,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     n_np = max(3, int(0.5 / t_np1))
 
     def in_loop(n: int) -> tuple[float, float]:
-        fn = lambda: rhs_loop(n, tk, y, model, wk, alpha, beta, 0, out)  # noqa: E731
+        fn = lambda: rhs_loop(n, tk, y, model, wk, cs, alpha, beta, 0, out)  # noqa: E731
         med, best = median_time(fn, reps)
         return med / n, best / n
 
@@ -227,7 +230,7 @@ def main(argv: list[str] | None = None) -> int:
     print()
     print(
         f"per right-hand side (state in contact at t = {tk:.4f} s, F_N = "
-        f"{r.contact[k, :, 5].max():.0f} N; compiled vs NumPy agree to {agree:.1e} rel.)"
+        f"{r.contact[k, :, CO_FN].max():.0f} N; compiled vs NumPy agree to {agree:.1e} rel.)"
     )
     print(f"  {'variant':<48s} {'median/call':>12s} {'best':>12s} {'speed-up vs NumPy':>18s}")
     for name, (s, best) in rhs_times.items():

@@ -6,8 +6,14 @@ import numpy as np
 import pytest
 
 import clearance as cl
-from clearance.contact.joint import CO_DELTA, CO_E, CO_FN, NWORK, clearance_forces
+from clearance.contact.element import (
+    clearance_forces,
+    joint_outputs,
+    make_contact_state,
+    point_gap,
+)
 from clearance.dynamics.rhs import body_states, make_work
+from clearance.layout import CO_DDOT, CO_DELTA, CO_E, CO_FEL, CO_FN
 from clearance.model.clearance import Clearance
 from clearance.model.contact_laws import (
     Coulomb,
@@ -83,12 +89,14 @@ def random_state(c, rng, *, e_socket, speed=0.3):
 
 def contact_Q(c, y, cflag=0, cddm=0.0):
     wk = make_work(c.model)
-    wk.cflag[:] = cflag
-    wk.cddm[:] = cddm
+    cs = make_contact_state(c.model)
+    cs.flag[:] = cflag
+    cs.ddm[:] = cddm
     body_states(c.model, y, wk)
     wk.Q[:] = 0.0
     yd = np.zeros(c.ny)
-    clearance_forces(c.model, y, wk, yd)
+    clearance_forces(c.model, y, wk, cs, yd)
+    joint_outputs(c.model, wk)
     return wk.Q.copy(), wk.cout[0].copy(), yd
 
 
@@ -123,10 +131,8 @@ def test_virtual_work_and_pair_power(friction):
         def V(yy):
             wk = make_work(c.model)
             body_states(c.model, yy, wk)
-            from clearance.contact.joint import clearance_geometry
-
-            delta = clearance_geometry(c.model, 0, wk.bA, wk.br, wk.fval)[2]
-            return elastic_energy(c.model.clr_law[0], c.model.clr_par[0], delta, C)
+            delta = point_gap(c.model, 0, wk.bA, wk.br, wk.fval)
+            return elastic_energy(c.model.cp_ix[0, 2], c.model.cp_par[0, 0], delta, C)
 
         h = 1e-9
         for b in range(2):
@@ -145,12 +151,12 @@ def test_virtual_work_and_pair_power(friction):
     # power balance: sum over bodies of Q . v equals the pair power
     v = y[c.nq : c.nq + c.nv].reshape(2, 6)
     power = float(np.sum(Q * v))
-    dDn = yd[c.iw + NWORK]
-    dDt = yd[c.iw + NWORK + 1]
+    dDn = yd[c.layout.idn]
+    dDt = yd[c.layout.idt]
     wk = make_work(c.model)
     body_states(c.model, y, wk)
-    f_el = co[6]
-    pair = -f_el * co[4] - dDn - dDt  # -F_N delta_dot - F_T.v_t, split as in physics.md j
+    f_el = co[CO_FEL]
+    pair = -f_el * co[CO_DDOT] - dDn - dDt  # -F_N delta_dot - F_T.v_t, split as in physics.md j
     assert power == pytest.approx(pair, rel=1e-9, abs=1e-12)
 
 
@@ -333,7 +339,7 @@ def test_two_clearance_joints_stay_within_clearance(method):
     [
         (dict(ball_radius=-0.01, radial_clearance=1e-4), "ball_radius"),
         (dict(ball_radius=0.01), "socket_radius"),
-        (dict(ball_radius=0.01, socket_radius=0.011, radial_clearance=1e-3), "socket_radius"),
+        (dict(ball_radius=0.01, socket_radius=0.012, radial_clearance=1e-3), "socket_radius"),
         (dict(ball_radius=0.01, socket_radius=0.009), "socket_radius"),
         (dict(ball_radius=0.01, radial_clearance=0.0), "radial_clearance"),
         (dict(ball_radius=0.01, radial_clearance=1e-4, socket="k"), "socket"),
@@ -346,13 +352,14 @@ def test_clearance_validation_names_the_field(kwargs, field):
         Clearance(**kwargs)
 
 
-def test_with_clearance_is_one_line_and_names_spherical_joints():
+def test_with_clearance_is_one_line_and_names_the_joints_that_can_have_clearance():
     m = pendulum(None, None, ideal=True)
     m2 = m.with_clearance("S", Clearance(ball_radius=RB, radial_clearance=C))
     assert m.joints["S"].clearance is None  # the original is not mutated
     assert cl.compile_mechanism(m2).nclr == 1
     assert Clearance(ball_radius=RB, radial_clearance=C).c == C  # kept exactly
-    with pytest.raises(cl.ModelError, match="expected the name of a Spherical joint"):
+    able = "expected the name of a spherical, revolute, cylindrical or prismatic joint"
+    with pytest.raises(cl.ModelError, match=able):
         m.with_clearance("nope", Clearance(ball_radius=RB, radial_clearance=C))
 
 
@@ -380,3 +387,14 @@ def test_peak_contact_force_is_resolved_between_samples(method):
     # a dense sampling of the same run (output times do not move the steps) agrees
     fine = cl.simulate(c, 0.0049, t_out=np.linspace(0.0, 0.0049, 49001), **kw)
     assert fine.contact_force("S").max() == pytest.approx(f, rel=5e-4)
+
+
+def test_clearance_copies_with_dataclasses_replace():
+    """A copy made with dataclasses.replace carries both radius fields, which agree."""
+    import dataclasses
+
+    a = Clearance(ball_radius=RB, radial_clearance=C)
+    b = dataclasses.replace(a, onset_tolerance=1e-6)
+    assert b.c == C and b.socket_radius == a.socket_radius and b.onset_tolerance == 1e-6
+    with pytest.raises(cl.ModelError, match="both agreeing"):
+        dataclasses.replace(a, radial_clearance=2 * C)  # the old socket radius disagrees

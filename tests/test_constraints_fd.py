@@ -45,8 +45,8 @@ from hypothesis import strategies as st
 
 import clearance as cl
 from clearance.analysis.assembly import Rows, evaluate_rows
-from clearance.compile.compiled import NWORK
 from clearance.dynamics.rhs import make_work
+from clearance.layout import NWORK
 
 H_Q = 1e-6  # FD step of the Jacobian columns (c.6 step 2)
 H_S = 1e-4  # FD step along the motion (c.6 step 3)

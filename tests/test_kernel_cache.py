@@ -9,7 +9,7 @@ from numba.core import config
 
 from clearance import _kernel_cache
 from clearance.dynamics.rhs import rhs
-from clearance.integrate.loops import erk54
+from clearance.integrate.erk import erk54
 
 
 def test_kernels_cache_under_the_source_keyed_directory():
@@ -54,3 +54,42 @@ def test_cache_location_from_the_environment(tmp_path, monkeypatch):
     monkeypatch.delenv("NUMBA_CACHE_DIR")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "x"))
     assert _kernel_cache.cache_dir().parent == tmp_path / "x" / "clearance"
+
+
+def test_the_kernel_free_list_is_true():
+    """No module of the kernel-free folders defines a kernel, and no kernel module imports
+    one of them (numba freezes imported globals into the compiled code, so a kernel must not
+    read anything the source hash does not cover)."""
+    import ast
+
+    root = _kernel_cache.PACKAGE
+    free = set(_kernel_cache._NO_KERNELS)
+
+    def is_free(rel: Path) -> bool:
+        return rel.parts[0] in free
+
+    def module_path(name: str) -> Path | None:
+        parts = name.split(".")[1:]
+        for cand in (Path(*parts).with_suffix(".py"), Path(*parts, "__init__.py")):
+            if parts and (root / cand).exists():
+                return cand
+        return None
+
+    checked = 0
+    for p in root.rglob("*.py"):
+        rel = p.relative_to(root)
+        src = p.read_text(encoding="utf-8")
+        has_kernel = "@njit" in src
+        if is_free(rel):
+            assert not has_kernel, f"{rel} defines a kernel but is listed as kernel-free"
+            continue
+        if not has_kernel:
+            continue
+        checked += 1
+        for node in ast.walk(ast.parse(src)):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("clearance"):
+                target = module_path(node.module)
+                assert target is None or not is_free(target), (
+                    f"kernel module {rel} imports {node.module}"
+                )
+    assert checked >= 10

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import clearance as cl
-from clearance.compile.compiled import NWORK
+from clearance.layout import NWORK
 
 
 def _pendulum():

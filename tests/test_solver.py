@@ -31,7 +31,7 @@ def _door(redundant: bool):
 def _eval(c, y, solver):
     wk = make_work(c.model)
     yd = np.empty_like(y)
-    st = rhs(0.3, y, c.model, wk, 5.0, 5.0, solver, yd)
+    st = rhs(0.3, y, c.model, wk, cl.contact_state(c), 5.0, 5.0, solver, yd)
     return st, yd, wk.lam.copy()
 
 

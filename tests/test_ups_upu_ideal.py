@@ -90,7 +90,8 @@ def test_compiled_equals_reference(compiled: cl.Compiled, solver: Solver) -> Non
     for t, y in ((0.0, y_cons), (0.6, y_rand)):
         wk = make_work(compiled.model)
         yd = np.zeros_like(y)
-        assert rhs(t, y, compiled.model, wk, 5.0, 5.0, int(solver), yd) == 0
+        cs = cl.contact_state(compiled)
+        assert rhs(t, y, compiled.model, wk, cs, 5.0, 5.0, int(solver), yd) == 0
         yd_ref, lam_ref = reference_rhs(mech, t, y, alpha=5.0, beta=5.0)
         scale = max(1.0, np.max(np.abs(yd_ref)))
         assert np.max(np.abs(yd - yd_ref)) < 1e-9 * scale

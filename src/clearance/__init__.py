@@ -18,7 +18,13 @@ from clearance.analysis.assembly import (
     velocity_analysis,
 )
 from clearance.compile.compiled import Compiled, compile_mechanism
-from clearance.integrate.simulate import initial_state, scipy_rhs, simulate
+from clearance.integrate.simulate import (
+    contact_state,
+    initial_state,
+    latch_contacts,
+    scipy_rhs,
+    simulate,
+)
 from clearance.model import (
     GROUND,
     Body,
@@ -44,7 +50,12 @@ from clearance.model import (
     Universal,
     triad_from_axis,
 )
-from clearance.model.clearance import Clearance
+from clearance.model.clearance import (
+    Clearance,
+    PrismaticClearance,
+    RevoluteClearance,
+    SphericalClearance,
+)
 from clearance.model.contact_laws import (
     STEEL,
     Coulomb,
@@ -111,6 +122,11 @@ __all__ = [
     "Sinusoid",
     "Tabulated",
     "Clearance",
+    "SphericalClearance",
+    "RevoluteClearance",
+    "PrismaticClearance",
+    "contact_state",
+    "latch_contacts",
     "Material",
     "STEEL",
     "Hertz",

@@ -24,8 +24,22 @@ import numba
 from numba.core import config
 
 PACKAGE = Path(__file__).resolve().parent
-# subpackages / modules without numba kernels (editing them does not invalidate the cache)
-_NO_KERNELS = ("cli", "io", "mechanisms", "plot", "scenario", "sweep", "pipeline.py", "data")
+# subpackages / modules without numba kernels that no kernel imports (editing them does not
+# invalidate the cache); tests/test_kernel_cache.py checks both properties
+_NO_KERNELS = (
+    "analysis",
+    "cli",
+    "compile",
+    "data",
+    "io",
+    "mechanisms",
+    "model",
+    "pipeline.py",
+    "plot",
+    "scenario",
+    "store",
+    "sweep",
+)
 
 
 def source_hash(root: Path = PACKAGE) -> str:

@@ -139,6 +139,50 @@ class FrictionLaw(IntEnum):
     LUGRE = 5
 
 
+# --------------------------------------------------------------------------- clearance joints
+
+
+class ClearanceKind(IntEnum):
+    """Geometry of a clearance joint (`clearance.model.clearance`): which ideal joint it
+    replaces and which contact points it has."""
+
+    SPHERICAL = 0  # ball in socket: one point contact (physics.md f)
+    REVOLUTE = 1  # journal in bearing: stations along the bearing (+ thrust faces)
+    CYLINDRICAL = 2  # journal in bearing, sliding freely along its axis
+    PRISMATIC = 3  # slider in guide: slider corners against the guide walls
+
+
+class ContactKind(IntEnum):
+    """Geometry of one contact point of a clearance joint; each has its kernel in
+    `clearance.contact` with the same signature (contact geometry -> gap, normal, contact
+    points on both bodies, gap rate)."""
+
+    SPHERE = 0  # ball surface in spherical socket (contact.spherical)
+    JOURNAL_STATION = 1  # bearing cross-section circle vs journal cylinder (contact.journal)
+    THRUST_POINT = 2  # journal collar point vs bearing end face (contact.journal)
+    SLIDER_CORNER = 3  # slider corner vs guide wall (contact.slider)
+
+
+# Compiled clearance joints and contact points are packed into few arrays (Model.clr_*,
+# Model.cp_*): numba passes every array of the Model named tuple separately to each
+# non-inlined call, and 24 more small arrays cost 3 % of a right-hand side (measured).
+# Model.clr_ix (nclr, NCLRI) int columns:
+CI_KIND, CI_BS, CI_BB, CI_MVS, CI_MVB, CI_P0, CI_NP = range(7)  # ClearanceKind, outer body,
+NCLRI = 7  # inner body, slide functions of the outer / inner centre (-1: fixed), points
+# Model.clr_geo (nclr, NCLRG) float columns: common, then kind-specific from CG_K0
+CG_C, CG_VFLOOR, CG_OTOL, CG_K0 = 0, 1, 2, 3  # clearance [m], impact-velocity floor [m/s],
+NCLRG = 8  # onset tolerance (fraction of the clearance); kind columns: contact kernels
+# Model.clr_vec (nclr, 4, 3): outer centre, inner centre (body frames), slide axes
+CV_PS, CV_PB, CV_AXS, CV_AXB = 0, 1, 2, 3
+# Model.cp_ix (ncp, NCPI) int columns: ContactKind, clearance joint, NormalLaw, FrictionLaw,
+# and PI_ORDER: not of point i but the i-th point in the order of ContactKind (the index sets
+# per kind: points kp[kind] .. kp[kind + 1] - 1 of that order, kp = Model.cp_kptr)
+PI_KIND, PI_CLR, PI_LAW, PI_FRIC, PI_ORDER = range(5)
+NCPI = 5
+# Model.cp_geo (ncp, NCPG) float columns: share of the joint's normal law, event tolerance
+PG_W, PG_TOL, PG_K0 = 0, 1, 2  # on delta [m]; kind columns from PG_K0: contact kernels
+NCPG = 6
+
 # --------------------------------------------------------------------------- solver, integrator
 
 

@@ -24,6 +24,7 @@ from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
 from clearance.compile.compiled import compile_mechanism
 from clearance.integrate.simulate import simulate
 from clearance.model.bodies import Marker, quaternion_to_rotation
+from clearance.model.clearance import Clearance
 from clearance.model.drivers import OffsetDriver
 from clearance.model.mechanism import Mechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
@@ -155,6 +156,7 @@ def place_balls_along_reaction(
     n0 = -f/|f|, f the ideal joint's force of the socket body on the ball body at t = 0, so
     the contact force -F_N n0 starts in the ideal direction. The offset is imposed with three
     temporary OffsetDrivers per joint (socket-frame axes) during assembly, then removed.
+    Only ball-in-socket joints are placed; journals and sliders start centred.
     """
     mech = clr.copy()
     c0 = compile_mechanism(clr)
@@ -162,6 +164,8 @@ def place_balls_along_reaction(
     for jn in joints:
         jt = clr.joints[jn]
         cl = jt.clearance
+        if not isinstance(cl, Clearance):
+            continue
         socket_marker, ball_marker = (
             (jt.marker_i, jt.marker_j) if cl.socket == "i" else (jt.marker_j, jt.marker_i)
         )

@@ -10,27 +10,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from clearance.compile.compiled import Compiled
 from clearance.dynamics.rhs import constraint_rows, make_work
+from clearance.dynamics.solve import dense_jacobian
 from clearance.kinematics.rotations import quat_rotate_body
 from clearance.model.errors import KinematicsError
-
-
-@njit(cache=True, error_model="numpy")
-def dense_jacobian(model, J, out):
-    """Scatter the row-block Jacobian (m, 12) into a dense (m, 6 nb) matrix."""
-    out[:, :] = 0.0
-    for r in range(model.nrow):
-        b = model.row_bi[r]
-        if b >= 0:
-            for k in range(6):
-                out[r, 6 * b + k] += J[r, k]
-        b = model.row_bj[r]
-        if b >= 0:
-            for k in range(6):
-                out[r, 6 * b + k] += J[r, 6 + k]
 
 
 @dataclass(frozen=True)

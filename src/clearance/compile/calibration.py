@@ -23,14 +23,15 @@ def hertz_stiffness(
     K = (4/3) E* sqrt(R*), 1/E* = (1 - nu_b^2)/E_b + (1 - nu_s^2)/E_s,
     R* = R_b R_s / (R_s - R_b) (conformal contact). E in Pa, R in m; needs R_socket > R_ball.
     The same formula with the journal and bearing radii is the usual stiffness of a revolute
-    clearance joint (Flores & Ambrosio 2004).
+    clearance joint (Flores & Ambrosio 2004); R_socket = inf gives a sphere of radius R_ball
+    on a flat (R* = R_ball), e.g. a rounded slider corner on a guide wall.
     """
     if not R_socket > R_ball > 0.0:
         raise ModelError(
             "hertz_stiffness", "R_socket", R_socket, f"must exceed R_ball = {R_ball!r} > 0"
         )
     e_star = 1.0 / ((1.0 - nu_ball**2) / E_ball + (1.0 - nu_socket**2) / E_socket)
-    r_star = R_ball * R_socket / (R_socket - R_ball)
+    r_star = R_ball if math.isinf(R_socket) else R_ball * R_socket / (R_socket - R_ball)
     return 4.0 / 3.0 * e_star * math.sqrt(r_star)
 
 

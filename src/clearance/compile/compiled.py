@@ -1,15 +1,13 @@
 """Compile: `Mechanism -> Compiled` (frozen arrays + index maps), never mutating the input.
 
 Array names carry element prefixes (`body_mass[nbody]`, `prim_kind[nprim]`, `frc_kind[nfrc]`,
-`fn_kind[nfn]`); `Model` is the namedtuple of arrays the compiled kernel reads. State layout:
+`fn_kind[nfn]`); `Model` is the namedtuple of arrays the compiled kernel reads. The state
+layout is `clearance.layout.StateLayout` (offsets in Model.y_*):
 
-    y = [q (7 nb) | v (6 nb) | z (3 nclr) | W_c, W_d, W_a, W_m, W_L | D_n (nclr) | D_t (nclr)]
-    q per body: r (3), p (4) Euler parameters;  v per body: r_dot (3), omega' (3) body frame
-    z: LuGre bristle vector of each clearance joint (zero for other friction laws)
-    work: W_c (all constraint forces), W_d (drivers only), W_a (applied non-conservative),
-    W_m (contact forces through moving attachment points), W_L (lumped-limb power
-    -1/2 omega'^T J'_dot omega'); D_n / D_t: normal-damping dissipation and friction work of
-    each clearance joint
+    y = [q (7 nb) | v (6 nb) | z (3 ncp) | W_c, W_d, W_a, W_m, W_L | D_n (nclr) | D_t (nclr)]
+
+Clearance joints (Model.clr_*, nclr) own contact points (Model.cp_*, ncp), encoded by
+`clearance.compile.clearances`.
 """
 
 from __future__ import annotations
@@ -21,15 +19,13 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
+from clearance.compile.clearances import clearance_arrays
 from clearance.compile.functions import encode_functions
-from clearance.compile.laws import ContactGeometry, encode_friction, encode_normal
-from clearance.contact.joint import NWORK as _NWORK
 from clearance.kinds import (
     AB_I,
     AB_J,
     AX_I,
     AX_J,
-    NPAR,
     NPV,
     PRIM_ROWS,
     ROTATION_ONLY,
@@ -38,8 +34,9 @@ from clearance.kinds import (
     JointType,
     PrimKind,
 )
+from clearance.layout import WORK, StateLayout
 from clearance.model.bodies import GROUND
-from clearance.model.contact_laws import law_name
+from clearance.model.clearance import PrismaticClearance, RevoluteClearance
 from clearance.model.drivers import (
     DistanceDriver,
     OffsetDriver,
@@ -50,8 +47,6 @@ from clearance.model.drivers import (
 from clearance.model.errors import ModelError
 from clearance.model.forces import PointForce, SpringDamper, Torque
 from clearance.model.mechanism import Mechanism
-
-NWORK = _NWORK  # W_c, W_d, W_a, W_m, W_L
 
 
 class Model(NamedTuple):
@@ -101,19 +96,25 @@ class Model(NamedTuple):
     fn_kind: np.ndarray
     fn_ptr: np.ndarray
     fn_data: np.ndarray
+    # state layout (clearance.layout.StateLayout)
+    y_iv: int
+    y_iz: int
+    y_iw: int
+    y_idn: int
+    y_idt: int
+    y_ny: int
+    # clearance joints and their contact points (compile.clearances), packed: column layouts
+    # in clearance.kinds (CI_*, CG_*, CV_*, PI_*, PG_*), kind columns in the contact kernels
     nclr: int
-    clr_bs: np.ndarray  # (nclr,) socket body
-    clr_bb: np.ndarray  # (nclr,) ball body
-    clr_ps: np.ndarray  # (nclr, 3) socket centre, socket body frame
-    clr_pb: np.ndarray  # (nclr, 3) ball centre, ball body frame
-    clr_Ts: np.ndarray  # (nclr, 3, 3) socket marker triad (output frame of e)
-    clr_geo: np.ndarray  # (nclr, 5) R_s, R_b, c, velocity floor, onset tolerance (fraction of c)
-    clr_law: np.ndarray  # (nclr,) NormalLaw
-    clr_par: np.ndarray  # (nclr, NPAR)
-    clr_fric: np.ndarray  # (nclr,) FrictionLaw
-    clr_fpar: np.ndarray  # (nclr, NPAR)
-    clr_mv: np.ndarray  # (nclr, 2) slide function of socket / ball centre, -1: fixed
-    clr_ax: np.ndarray  # (nclr, 2, 3) slide axes (body frames)
+    clr_ix: np.ndarray  # (nclr, NCLRI) int: kind, outer / inner body, slides, points
+    clr_geo: np.ndarray  # (nclr, NCLRG): clearance, velocity floor, onset tolerance, geometry
+    clr_vec: np.ndarray  # (nclr, 4, 3): outer / inner centre, their slide axes (body frames)
+    clr_T: np.ndarray  # (nclr, 2, 3, 3): outer / inner marker triads (body frames)
+    ncp: int
+    cp_ix: np.ndarray  # (ncp, NCPI) int: contact kind, clearance joint, normal, friction law
+    cp_geo: np.ndarray  # (ncp, NCPG): share of the law, event tolerance [m], geometry
+    cp_par: np.ndarray  # (ncp, 2, NPAR): normal and friction law parameters
+    cp_kptr: np.ndarray  # (len(ContactKind) + 1,) index sets per kind (kinds.PI_ORDER)
     body_vfn: np.ndarray  # (nb,) length function of an InertiaVariation, -1: constant inertia
     body_var: np.ndarray  # (nb, 5) moments (3), offset, rate term on (1) / off (0)
 
@@ -141,6 +142,7 @@ class Compiled:
     drivers: tuple  # Blocks of driver rows
     y0: np.ndarray = field(repr=False)
     clearances: tuple = ()  # ClearanceInfo per clearance joint
+    contact_points: tuple = ()  # ContactPointInfo per contact point
 
     @property
     def nb(self) -> int:
@@ -163,18 +165,27 @@ class Compiled:
         return self.model.nclr
 
     @property
+    def ncp(self) -> int:
+        return self.model.ncp
+
+    @property
+    def layout(self) -> StateLayout:
+        """Offsets of the parts of the state vector y."""
+        return StateLayout(self.model.nb, self.model.ncp, self.model.nclr)
+
+    @property
     def iz(self) -> int:
         """Start of the LuGre bristle states in y."""
-        return 13 * self.model.nb
+        return self.layout.iz
 
     @property
     def iw(self) -> int:
-        """Start of the work integrals W_c, W_d, W_a, D_n..., D_t... in y."""
-        return 13 * self.model.nb + 3 * self.model.nclr
+        """Start of the work integrals W_c, W_d, W_a, W_m, W_L, D_n..., D_t... in y."""
+        return self.layout.iw
 
     @property
     def ny(self) -> int:
-        return self.iw + NWORK + 2 * self.model.nclr
+        return self.layout.ny
 
     def q_slice(self, body: str) -> slice:
         k = self.body_names.index(body)
@@ -193,15 +204,16 @@ class Compiled:
     def describe(self) -> str:
         """Human-readable layout of y (q, v, z, work integrals) and lam."""
         nb = self.nb
-        nc = self.nclr
-        iw = self.iw
+        lay = self.layout
+        work = ", ".join(n.split("_", 1)[1] for n, _ in WORK)
         lines = [
             f"Compiled mechanism '{self.mechanism.name}': {nb} moving bodies, "
             f"{self.nrow} constraint rows, {self.nv} velocity coordinates, "
-            f"{nc} clearance joint(s), DOF (structural) = {self.nv - self.nrow}",
-            f"state y ({self.ny}) = [q (0:{self.nq}) | v ({self.nq}:{self.nq + self.nv}) "
-            f"| z ({self.iz}:{iw}) | W_c, W_d, W_a, W_m, W_L ({iw}:{iw + NWORK}) "
-            f"| D_n ({iw + NWORK}:{iw + NWORK + nc}) | D_t ({iw + NWORK + nc}:{self.ny})]",
+            f"{self.nclr} clearance joint(s) with {self.ncp} contact point(s), "
+            f"DOF (structural) = {self.nv - self.nrow}",
+            f"state y ({lay.ny}) = [q (0:{self.nq}) | v ({self.nq}:{self.nq + self.nv}) "
+            f"| z ({lay.iz}:{lay.iw}) | work {work} ({lay.iw}:{lay.idn}) "
+            f"| D_n ({lay.idn}:{lay.idt}) | D_t ({lay.idt}:{lay.ny})]",
             "bodies:",
         ]
         for k, n in enumerate(self.body_names):
@@ -217,28 +229,18 @@ class Compiled:
                     f"({b.body_i} -> {b.body_j})"
                 )
         if self.clearances:
-            lines.append("clearance joints (force elements, no rows):")
+            lines.append("clearance joints (force elements; their remaining rows are above):")
+            p = 0
             for k, ci in enumerate(self.clearances):
+                n = len(ci.points)
                 lines.append(
-                    f"  [{k}] {ci.name}: socket on {ci.socket_body}, ball on {ci.ball_body}, "
-                    f"c = {ci.c:.4g} m, {ci.normal}, {ci.friction}; "
-                    f"z = y[{self.iz + 3 * k}:{self.iz + 3 * k + 3}]"
+                    f"  [{k}] {ci.name}: {ci.kind} ({ci.model}), outer part on "
+                    f"{ci.socket_body}, inner on {ci.ball_body}, c = {ci.c:.4g} m, {ci.normal}, "
+                    f"{ci.friction}; {n} contact point(s), z = y[{lay.iz + 3 * p}:"
+                    f"{lay.iz + 3 * (p + n)}]"
                 )
+                p += n
         return "\n".join(lines)
-
-
-@dataclass(frozen=True)
-class ClearanceInfo:
-    """Names and key numbers of one compiled clearance joint."""
-
-    name: str
-    socket_body: str
-    ball_body: str
-    c: float
-    ball_radius: float
-    socket_radius: float
-    normal: str
-    friction: str
 
 
 class _Builder:
@@ -311,7 +313,8 @@ def _joint_prims(b: _Builder, jt) -> None:
     fj, gj, hj = Tj[:, 0], Tj[:, 1], Tj[:, 2]
     k = jt.kind
     if getattr(jt, "clearance", None) is not None:
-        return  # a force element, no rows (physics.md f)
+        _clearance_rows(b, jt)  # the rows its clearance keeps ideal
+        return
     if k in (JointType.SPHERICAL, JointType.UNIVERSAL, JointType.REVOLUTE, JointType.FIXED):
         b.prim(PrimKind.SPHERICAL, bi, bj, sbi=pi, sbj=pj, mi=jt.marker_i, mj=jt.marker_j)
     if k == JointType.UNIVERSAL:
@@ -330,6 +333,31 @@ def _joint_prims(b: _Builder, jt) -> None:
         b.prim(PrimKind.DOT1, bi, bj, abi=fi, abj=gj)
         b.prim(PrimKind.DOT1, bi, bj, abi=gi, abj=hj)
         b.prim(PrimKind.DOT1, bi, bj, abi=hi, abj=fj)
+
+
+def _clearance_rows(b: _Builder, jt) -> None:
+    """The rows of a clearance joint that stay ideal (model.clearance: `kept_rows`), written
+    from the outer marker (bearing, guide) to the inner one: a planar journal stays aligned
+    with its bearing (h_b normal to f_s and g_s) and a revolute one axially in place
+    (h_s . d = 0, unless it has an axial clearance); a planar slider stays in the guide's
+    f-h plane (g_s . d = 0, g_s . h_b = 0, g_s . f_b = 0)."""
+    cl = jt.clearance
+    ms, mb = (jt.marker_i, jt.marker_j) if cl.outer == "i" else (jt.marker_j, jt.marker_i)
+    bs, ps, Ts = b.marker(ms)
+    bb, pb, Tb = b.marker(mb)
+    fs, gs, hs = Ts[:, 0], Ts[:, 1], Ts[:, 2]
+    n0 = b.nrow
+    if isinstance(cl, RevoluteClearance):
+        if cl.model == "planar":
+            b.prim(PrimKind.DOT1, bs, bb, abi=fs, abj=Tb[:, 2])
+            b.prim(PrimKind.DOT1, bs, bb, abi=gs, abj=Tb[:, 2])
+        if jt.kind == JointType.REVOLUTE and cl.axial_clearance is None:
+            b.prim(PrimKind.DOT2, bs, bb, sbi=ps, sbj=pb, abi=hs, mi=ms, mj=mb)
+    elif isinstance(cl, PrismaticClearance) and cl.model == "planar":
+        b.prim(PrimKind.DOT2, bs, bb, sbi=ps, sbj=pb, abi=gs, mi=ms, mj=mb)
+        b.prim(PrimKind.DOT1, bs, bb, abi=gs, abj=Tb[:, 2])
+        b.prim(PrimKind.DOT1, bs, bb, abi=gs, abj=Tb[:, 0])
+    assert b.nrow - n0 == cl.kept_rows(jt.kind), "kept_rows out of step with _clearance_rows"
 
 
 def _offset_row(b: _Builder, mi: str, mj: str, function) -> tuple[str, str]:
@@ -456,95 +484,6 @@ def _force_arrays(b: _Builder):
     )
 
 
-def _clearance_arrays(b: _Builder) -> tuple[dict, list]:
-    """Kernel arrays of the spherical joints that have a Clearance (physics.md f)."""
-    mech = b.mech
-    rows, info = [], []
-    for jt in mech.joints.values():
-        cl = getattr(jt, "clearance", None)
-        if cl is None:
-            continue
-        mi, mj = jt.marker_i, jt.marker_j
-        ms, mb = (mi, mj) if cl.socket == "i" else (mj, mi)
-        bs, ps, Ts = b.marker(ms)
-        bb, pb, _ = b.marker(mb)
-        geometry = ContactGeometry(
-            cl.ball_radius,
-            cl.socket_radius,
-            cl.ball_material,
-            cl.socket_material,
-            _effective_mass(mech, ms, mb),
-        )
-        law, par = encode_normal(cl.normal, geometry)
-        fric, fpar = encode_friction(cl.friction)
-        fs, axs = b.slide(ms)
-        fb, axb = b.slide(mb)
-        rows.append(
-            (
-                bs,
-                bb,
-                ps,
-                pb,
-                Ts,
-                (cl.socket_radius, cl.ball_radius, cl.c, cl.velocity_floor, cl.onset_tolerance),
-                int(law),
-                np.asarray(par, float),
-                int(fric),
-                np.asarray(fpar, float),
-                (fs, fb),
-                np.array([axs, axb]),
-            )
-        )
-        info.append(
-            ClearanceInfo(
-                jt.name,
-                mech.markers[ms].body,
-                mech.markers[mb].body,
-                cl.c,
-                cl.ball_radius,
-                cl.socket_radius,
-                law_name(cl.normal),
-                law_name(cl.friction),
-            )
-        )
-    n = len(rows)
-    npar = NPAR
-
-    def col(i, dtype=float, shape=()):
-        return np.array([r[i] for r in rows], dtype=dtype).reshape((n, *shape))
-
-    arrays = dict(
-        nclr=n,
-        clr_bs=col(0, np.int64),
-        clr_bb=col(1, np.int64),
-        clr_ps=col(2, shape=(3,)),
-        clr_pb=col(3, shape=(3,)),
-        clr_Ts=col(4, shape=(3, 3)),
-        clr_geo=col(5, shape=(5,)),
-        clr_law=col(6, np.int64),
-        clr_par=col(7, shape=(npar,)),
-        clr_fric=col(8, np.int64),
-        clr_fpar=col(9, shape=(npar,)),
-        clr_mv=col(10, np.int64, shape=(2,)),
-        clr_ax=col(11, shape=(2, 3)),
-    )
-    return arrays, info
-
-
-def _effective_mass(mech: Mechanism, ms: str, mb: str) -> float:
-    """m_s m_b / (m_s + m_b) of the two bodies (ground: infinite mass), for laws that need
-    an effective mass (Kelvin-Voigt damping from restitution, physics.md g.3)."""
-    ms_ = mech.markers[ms].body
-    mb_ = mech.markers[mb].body
-    m1 = mech.bodies[ms_].mass if ms_ != GROUND else np.inf
-    m2 = mech.bodies[mb_].mass if mb_ != GROUND else np.inf
-    if np.isinf(m1):
-        return float(m2)
-    if np.isinf(m2):
-        return float(m1)
-    return float(m1 * m2 / (m1 + m2))
-
-
 def _factor_order(nrow: int, lists: list) -> np.ndarray:
     """Row order for the envelope Cholesky of S: reverse Cuthill-McKee on the graph of rows
     that share a body (scipy), which keeps the envelope of S small (arrow-like for legs)."""
@@ -625,7 +564,7 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         bi_name, bj_name = _driver_prims(b, d)
         drivers.append(Block(d.name, type(d).__name__, r0, b.nrow - r0, bi_name, bj_name))
     frc = _force_arrays(b)
-    clr, clr_info = _clearance_arrays(b)
+    clr, clr_info, cp_info = clearance_arrays(b, mech)
     nb = mech.nbody
     npr = len(b.prims)
     prim_kind = np.array([p[0] for p in b.prims], dtype=np.int64)
@@ -717,11 +656,12 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         fn_ptr=fn_ptr,
         fn_data=fn_data,
         **clr,
+        **StateLayout(nb, clr["ncp"], clr["nclr"]).model_fields(),
     )
     for a in model:
         if isinstance(a, np.ndarray):
             a.setflags(write=False)
-    y0 = np.zeros(13 * nb + 5 * len(clr_info) + NWORK)
+    y0 = np.zeros(StateLayout(nb, clr["ncp"], clr["nclr"]).ny)
     for k, bd in enumerate(bodies):
         y0[7 * k : 7 * k + 3] = bd.position
         y0[7 * k + 3 : 7 * k + 7] = bd.orientation
@@ -734,5 +674,6 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
         joints=tuple(joints),
         drivers=tuple(drivers),
         y0=y0,
-        clearances=tuple(clr_info),
+        clearances=clr_info,
+        contact_points=cp_info,
     )

@@ -27,7 +27,7 @@ def applied_forces(model, y, wk):
     effect on the kinetic energy is P_L = -1/2 omega'^T J'_dot omega' (physics.md j).
     """
     nb = model.nb
-    off = 7 * nb
+    off = model.y_iv
     Q = wk.Q
     bA, br, brd, bw, fval = wk.bA, wk.br, wk.brd, wk.bw, wk.fval
     p_limb = 0.0
@@ -122,7 +122,7 @@ def potential_energy(model, y, bA, br):
 def kinetic_energy(model, y, bJ):
     """T = sum 1/2 m |r_dot|^2 + 1/2 omega'^T J' omega' [J], with the current inertia bJ."""
     nb = model.nb
-    off = 7 * nb
+    off = model.y_iv
     T = 0.0
     for b in range(nb):
         v = (y[off + 6 * b], y[off + 6 * b + 1], y[off + 6 * b + 2])

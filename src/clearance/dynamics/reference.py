@@ -343,6 +343,11 @@ def _rows(
     is_drv: list[bool] = []
     for jt in mech.joints.values():
         if getattr(jt, "clearance", None) is not None:
+            if jt.clearance.kept_rows(jt.kind):
+                raise NotImplementedError(
+                    f"reference: clearance joint {jt.name!r} keeps ideal rows; this oracle "
+                    "covers clearance joints without rows (spherical) only"
+                )
             continue  # a clearance joint is a force element, no rows (physics.md f)
         r = _joint_rows(kin, jt)
         rows += r

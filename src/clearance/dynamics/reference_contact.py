@@ -5,7 +5,7 @@ A second, independent implementation of the ball-in-socket force element of phys
 dissipative normal laws of g.1/g.2 (Hertz stiffness from the materials, the impact velocity
 latched at onset) and LuGre friction with its bristle state (h.4). It reads the `Mechanism`
 description only (never the compiled arrays or kernels) and is written differently from the
-compiled `clearance.contact.joint` on purpose: contact points are kinematic atoms of
+compiled `clearance.contact` kernels on purpose: contact points are kinematic atoms of
 `reference.py` (value, dense Jacobian), and the generalised forces are J^T f (virtual work)
 instead of [f; A^T (s x f)].
 
@@ -30,6 +30,7 @@ import numpy as np
 from scipy.integrate import RK45, solve_ivp
 
 from clearance.dynamics.reference import _G, _applied, _Kin, _rows, refuse_moving_parts
+from clearance.model.clearance import Clearance
 from clearance.model.contact_laws import (
     Flores,
     Gonthier,
@@ -100,6 +101,11 @@ def clearance_joints(mech: Mechanism) -> list[ClearanceJoint]:
         cl = getattr(jt, "clearance", None)
         if cl is None:
             continue
+        if not isinstance(cl, Clearance):
+            raise NotImplementedError(
+                f"reference_contact: joint {jt.name!r} has a {type(cl).__name__}; this oracle "
+                "covers spherical clearance joints only"
+            )
         law = cl.normal
         if type(law) is Hertz:
             xi = 0.0

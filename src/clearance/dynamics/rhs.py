@@ -4,7 +4,7 @@ Pipeline, readable top to bottom: body kinematics -> time functions -> constrain
 applied forces -> clearance-joint contact forces -> Baumgarte (the one place it is applied)
 -> constrained solve -> y_dot.
 
-Hot-path kernels (here, in solve, primitives, contact.joint and integrate.events/loops) are
+Hot-path kernels (here, in solve, primitives, contact and the integrator loops) are
 compiled with `_nrt=False`, i.e. without numba's reference counting. With it, every call
 that passes the Model / Work named tuples increfs and decrefs each of their ~70 arrays
 (atomic operations), and every array view (`bA[b]`) does the same: that cost about 40 % of
@@ -22,11 +22,12 @@ import numpy as np
 from numba import njit
 
 from clearance.constraints.primitives import eval_primitives
-from clearance.contact.joint import NCOUT, clearance_forces
+from clearance.contact.element import clearance_forces
 from clearance.dynamics.forces import applied_forces
 from clearance.dynamics.solve import nn, solve_constrained
 from clearance.kinematics.rotations import quat_rate, quat_to_rot
 from clearance.kinematics.timefn import eval_all
+from clearance.layout import NCOUT, NPOUT, W_A, W_C, W_D, W_L, W_M
 
 
 class Work(NamedTuple):
@@ -51,9 +52,10 @@ class Work(NamedTuple):
     Q: np.ndarray  # (nb, 6)
     MiQ: np.ndarray  # (nb, 6)
     vd: np.ndarray  # (nb, 6)
-    cflag: np.ndarray  # (nclr,) int: 1 while clearance joint k is in contact (discrete state)
-    cddm: np.ndarray  # (nclr,) impact velocity latched at onset [m/s] (discrete state)
-    cout: np.ndarray  # (nclr, NCOUT) contact diagnostics of the last evaluation
+    cout: np.ndarray  # (nclr, NCOUT) clearance-joint diagnostics of the last evaluation
+    pout: np.ndarray  # (ncp, NPOUT) contact-point diagnostics of the last evaluation
+    ev_d0: np.ndarray  # (ncp,) scratch of the event search: gaps at the bracket's start
+    ev_d1: np.ndarray  # (ncp,) and at its end
     bJ: np.ndarray  # (nb, 3, 3) current inertia J'(t) (constant unless InertiaVariation)
     bJinv: np.ndarray  # (nb, 3, 3) its inverse
     bJd: np.ndarray  # (nb, 3) diagonal of J'_dot (the variation is diagonal in body axes)
@@ -83,9 +85,10 @@ def make_work(model) -> Work:
         Q=np.zeros((nb, 6)),
         MiQ=np.zeros((nb, 6)),
         vd=np.zeros((nb, 6)),
-        cflag=np.zeros(model.nclr, dtype=np.int64),
-        cddm=np.zeros(model.nclr),
         cout=np.zeros((model.nclr, NCOUT)),
+        pout=np.zeros((model.ncp, NPOUT)),
+        ev_d0=np.zeros(model.ncp),
+        ev_d1=np.zeros(model.ncp),
         bJ=np.array(model.body_J, dtype=float).reshape(nb, 3, 3),
         bJinv=np.array(model.body_Jinv, dtype=float).reshape(nb, 3, 3),
         bJd=np.zeros((nb, 3)),
@@ -96,7 +99,7 @@ def make_work(model) -> Work:
 def body_states(model, y, wk):
     """Rotation matrices, positions, velocities and world angular velocities of all bodies."""
     nb = model.nb
-    off = 7 * nb
+    off = model.y_iv
     for b in range(nb):
         q = 7 * b
         quat_to_rot(y[q + 3], y[q + 4], y[q + 5], y[q + 6], wk.bA[b])
@@ -144,7 +147,7 @@ def constraint_rows(model, t, y, wk):
     eval_all(model.fn_kind, model.fn_ptr, model.fn_data, t, wk.fval)
     update_inertia(model, wk)
     eval_primitives(model, wk.bA, wk.br, wk.brd, wk.bw, wk.fval, wk.phi, wk.phit, wk.gam, wk.J)
-    off = 7 * model.nb
+    off = model.y_iv
     for r in range(model.nrow):
         s = wk.phit[r]
         for side in range(2):
@@ -156,9 +159,10 @@ def constraint_rows(model, t, y, wk):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def rhs(t, y, model, wk, alpha, beta, solver, ydot):
+def rhs(t, y, model, wk, cs, alpha, beta, solver, ydot):
     """Write y_dot; return 0 on success, 1 if the constraint matrix is singular.
 
+    cs: the discrete contact state (`clearance.contact.element.ContactState`, read only);
     alpha, beta: Baumgarte parameters [1/s] (physics.md d.2); solver: Solver enum value.
     """
     nb = model.nb
@@ -167,13 +171,13 @@ def rhs(t, y, model, wk, alpha, beta, solver, ydot):
     p_applied, p_limb = applied_forces(model, y, wk)
     p_moving = 0.0
     if model.nclr > 0:
-        p_moving = clearance_forces(model, y, wk, ydot)
+        p_moving = clearance_forces(model, y, wk, cs, ydot)
     # Baumgarte stabilisation: the only place it enters (physics.md d.2)
     b2 = beta * beta
     for r in range(m):
         wk.gB[r] = wk.gam[r] - 2.0 * alpha * wk.phid[r] - b2 * wk.phi[r]
     status = solve_constrained(model, wk, solver)
-    off = 7 * nb
+    off = model.y_iv
     for b in range(nb):
         q = nn(7 * b)
         v = nn(off + 6 * b)
@@ -195,10 +199,10 @@ def rhs(t, y, model, wk, alpha, beta, solver, ydot):
         pc += p
         if model.row_drv[r] == 1:
             pd_ += p
-    w0 = 13 * nb + 3 * model.nclr
-    ydot[w0] = pc  # W_c
-    ydot[w0 + 1] = pd_  # W_d
-    ydot[w0 + 2] = p_applied  # W_a
-    ydot[w0 + 3] = p_moving  # W_m
-    ydot[w0 + 4] = p_limb  # W_L
+    w0 = model.y_iw
+    ydot[w0 + W_C] = pc
+    ydot[w0 + W_D] = pd_
+    ydot[w0 + W_A] = p_applied
+    ydot[w0 + W_M] = p_moving
+    ydot[w0 + W_L] = p_limb
     return status

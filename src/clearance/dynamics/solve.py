@@ -283,3 +283,18 @@ def _solve_dense(model, Jb, J, gB, Q, lam, vd):
     if not np.all(np.isfinite(x)):
         return 1
     return 0
+
+
+@njit(cache=True, error_model="numpy")
+def dense_jacobian(model, J, out):
+    """Scatter the row-block Jacobian (m, 12) into a dense (m, 6 nb) matrix."""
+    out[:, :] = 0.0
+    for r in range(model.nrow):
+        b = model.row_bi[r]
+        if b >= 0:
+            for k in range(6):
+                out[r, 6 * b + k] += J[r, k]
+        b = model.row_bj[r]
+        if b >= 0:
+            for k in range(6):
+                out[r, 6 * b + k] += J[r, 6 + k]

@@ -1,20 +1,22 @@
 """Contact events of clearance joints, compiled (physics.md d.5, f.5).
 
-Onset (delta crosses 0 upward) and separation (downward) are located on the dense output
-of an accepted step (the interpolant P of the pair that made it, tableau.py), so that no
-contact is stepped over: delta is sampled at interior points of the step, and a sign change
-is bracketed and refined (Illinois regula falsi) until |delta| <= onset_tolerance * c on the
-far side of the crossing. The step is then cut at the event, the discrete state updated
-(contact flag; impact velocity latched, floored; LuGre bristles reset at separation) and the
-event logged.
+Onset (delta of a contact point crosses 0 upward) and separation (downward) are located on
+the dense output of an accepted step, given as data: the continuous extension
+y(t + x h) = y + h sum_k K[k] b_k(x), b_k(x) = P[k, 0] x + ... + P[k, 3] x^4 of the method
+that made the step (tableau.py layout; any explicit Runge-Kutta method has one). delta is
+sampled at interior points of the step, and a sign change is bracketed and refined (Illinois
+regula falsi) until |delta| <= the point's tolerance (cp_geo[p, PG_TOL]: onset_tolerance
+times the joint's clearance) on the far side of the crossing. The step is then cut at the event,
+and `update_contacts` applies the discrete update (contact flag; impact velocity latched,
+floored; LuGre bristles reset at separation) and logs the event.
 
 A probe of delta needs only the joint's two bodies: it interpolates their 7 + 7 position
 entries and evaluates only the slide functions of moving centres (the full state and all
 bodies cost ~10x more per probe). The arithmetic is that of `interpolate` + `body_states`
-+ `clearance_geometry`, so the events found are bit-for-bit those of full-state probes.
++ the contact kernels, so the events found are bit-for-bit those of full-state probes.
 
-Impact log columns: t [s], joint index, kind (+1 onset, -1 separation), delta_dot [m/s],
-e (3) contact direction times |e| in the socket marker frame [m].
+Event log columns (layout.EVENT_COLUMNS): t [s], contact point index, kind (+1 onset, -1
+separation), delta_dot [m/s], the joint's eccentricity (3) in the outer marker frame [m].
 """
 
 from __future__ import annotations
@@ -23,12 +25,21 @@ import math
 
 from numba import njit
 
-from clearance.contact.joint import _centres, clearance_geometry
-from clearance.kinds import FrictionLaw
-from clearance.kinematics.rotations import add, cross, dot, mattvec, quat_to_rot, scale, sub
+from clearance.contact.element import eccentricity, point_contact, point_gap
+from clearance.kinds import (
+    CG_VFLOOR,
+    CI_BB,
+    CI_BS,
+    CI_MVS,
+    CI_NP,
+    CI_P0,
+    PG_TOL,
+    PI_FRIC,
+    FrictionLaw,
+)
+from clearance.kinematics.rotations import quat_to_rot
 from clearance.kinematics.timefn import eval_timefn
 
-NLOG = 7
 _LUGRE = int(FrictionLaw.LUGRE)
 # interior samples of a step at which delta is checked before bracketing a crossing
 _NSAMPLE = 4
@@ -82,7 +93,7 @@ def _set_body(model, wk, b, y, r0, r1, r2, p0, p1, p2, p3, vel):
     wk.br[b, 1] = r1
     wk.br[b, 2] = r2
     if vel:
-        v = 7 * model.nb + 6 * b
+        v = model.y_iv + 6 * b
         for a in range(3):
             wk.brd[b, a] = y[v + a]
             wk.bw[b, a] = A[a, 0] * y[v + 3] + A[a, 1] * y[v + 4] + A[a, 2] * y[v + 5]
@@ -141,7 +152,7 @@ def _interp1(y, K, h, i, w):
 def _slides(model, wk, k, t):
     """wk.fval of the slide functions of joint k's moving centres (if any) at t."""
     for side in range(2):
-        fn = model.clr_mv[k, side]
+        fn = model.clr_ix[k, CI_MVS + side]
         if fn >= 0:
             f, fd, fdd = eval_timefn(
                 model.fn_kind[fn], model.fn_data, model.fn_ptr[fn], model.fn_ptr[fn + 1], t
@@ -151,18 +162,17 @@ def _slides(model, wk, k, t):
             wk.fval[fn, 2] = fdd
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
-def _delta(model, wk, k, t, y, K, P, h, x):
-    """delta of clearance joint k at t + x h on the dense output of the step (x = 0: y)."""
+@njit(cache=True, inline="always", error_model="numpy")
+def _place(model, wk, k, t, y, K, P, h, x):
+    """The two bodies of clearance joint k at t + x h on the dense output (x = 0: y)."""
     if x == 0.0:
-        _pose_at(model, wk, model.clr_bs[k], y, False)
-        _pose_at(model, wk, model.clr_bb[k], y, False)
+        _pose_at(model, wk, model.clr_ix[k, CI_BS], y, False)
+        _pose_at(model, wk, model.clr_ix[k, CI_BB], y, False)
         _slides(model, wk, k, t)
     else:
-        _pose_interp(model, wk, model.clr_bs[k], y, K, P, h, x)
-        _pose_interp(model, wk, model.clr_bb[k], y, K, P, h, x)
+        _pose_interp(model, wk, model.clr_ix[k, CI_BS], y, K, P, h, x)
+        _pose_interp(model, wk, model.clr_ix[k, CI_BB], y, K, P, h, x)
         _slides(model, wk, k, t + x * h)
-    return clearance_geometry(model, k, wk.bA, wk.br, wk.fval)[2]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -172,130 +182,133 @@ def _wants(flag, d):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def locate_event(model, wk, t, y, K, P, h):
-    """Earliest contact event inside the step (x in (0, 1]) and its joint, or (2.0, -1);
-    delta is probed on the dense output P of the step's method (see `interpolate`).
+def _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, dlo, xhi, dhi):
+    """Illinois regula falsi on delta_p(x) over [xlo, xhi] (a crossing inside); returns x
+    on the far side with |delta| <= the point's tolerance (or a bracket below 1e-14)."""
+    flag = cs.flag[p]
+    tol = model.cp_geo[p, PG_TOL]
+    side = 0
+    for _ in range(100):
+        if abs(dhi) <= tol or xhi - xlo < 1e-14:
+            break
+        if dhi != dlo:
+            xm = xhi - dhi * (xhi - xlo) / (dhi - dlo)
+        else:
+            xm = 0.5 * (xlo + xhi)
+        if not (xlo < xm < xhi):
+            xm = 0.5 * (xlo + xhi)
+        _place(model, wk, k, t, y, K, P, h, xm)
+        dm = point_gap(model, p, wk.bA, wk.br, wk.fval)
+        if _wants(flag, dm):
+            xhi = xm
+            dhi = dm
+            if side == 1:
+                dlo *= 0.5
+            side = 1
+        else:
+            xlo = xm
+            dlo = dm
+            if side == -1:
+                dhi *= 0.5
+            side = -1
+    return xhi
 
-    The returned x is on the far side of the crossing with |delta| <= tol * c (or the
-    bracket is below 1e-14 of the step), so the discrete update applies there.
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def locate_event(model, wk, cs, t, y, K, P, h):
+    """Earliest contact event inside the step (x in (0, 1]) and its contact point, or
+    (2.0, -1); delta is probed on the dense output (y, K, P, h) of the step's method.
+
+    The returned x is on the far side of the crossing with |delta| <= the point's tolerance
+    (or the bracket is below 1e-14 of the step), so the discrete update applies there.
     """
     xbest = 2.0
-    kbest = -1
+    pbest = -1
+    d0 = wk.ev_d0
+    d1 = wk.ev_d1
     for k in range(model.nclr):
-        flag = wk.cflag[k]
-        tol = model.clr_geo[k, 4] * model.clr_geo[k, 2]
+        p0 = model.clr_ix[k, CI_P0]
+        p1 = p0 + model.clr_ix[k, CI_NP]
         xlo = 0.0
-        dlo = _delta(model, wk, k, t, y, K, P, h, 0.0)
+        _place(model, wk, k, t, y, K, P, h, 0.0)
+        for p in range(p0, p1):
+            d0[p] = point_gap(model, p, wk.bA, wk.br, wk.fval)
         found = False
-        dhi = 0.0
         xhi = 1.0
         for j in range(1, _NSAMPLE + 1):
             x = j / _NSAMPLE
             if x >= xbest:
                 break
-            d = _delta(model, wk, k, t, y, K, P, h, x)
-            if _wants(flag, d):
+            _place(model, wk, k, t, y, K, P, h, x)
+            for p in range(p0, p1):
+                d1[p] = point_gap(model, p, wk.bA, wk.br, wk.fval)
+                if _wants(cs.flag[p], d1[p]):
+                    found = True
+            if found:
                 xhi = x
-                dhi = d
-                found = True
                 break
             xlo = x
-            dlo = d
+            for p in range(p0, p1):
+                d0[p] = d1[p]
         if not found:
             continue
-        # Illinois regula falsi on delta(x) over [xlo, xhi]; keep the far side
-        side = 0
-        for _ in range(100):
-            if abs(dhi) <= tol or xhi - xlo < 1e-14:
-                break
-            if dhi != dlo:
-                xm = xhi - dhi * (xhi - xlo) / (dhi - dlo)
-            else:
-                xm = 0.5 * (xlo + xhi)
-            if not (xlo < xm < xhi):
-                xm = 0.5 * (xlo + xhi)
-            dm = _delta(model, wk, k, t, y, K, P, h, xm)
-            if _wants(flag, dm):
-                xhi = xm
-                dhi = dm
-                if side == 1:
-                    dlo *= 0.5
-                side = 1
-            else:
-                xlo = xm
-                dlo = dm
-                if side == -1:
-                    dhi *= 0.5
-                side = -1
-        if xhi < xbest:
-            xbest = xhi
-            kbest = k
-    return xbest, kbest
+        for p in range(p0, p1):
+            if _wants(cs.flag[p], d1[p]):
+                xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, d0[p], xhi, d1[p])
+                if xp < xbest:
+                    xbest = xp
+                    pbest = p
+    return xbest, pbest
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def update_contacts(model, wk, t, y, log, nlog):
-    """Discrete update at an accepted state: onset latches delta_dot_minus (floored) and
-    sets the flag, separation clears it and resets the LuGre bristles; LuGre bristles of
-    joints in contact are kept in the tangent plane (h.4). Returns (changed, nlog).
+def update_contacts(model, wk, cs, t, y, log, nlog):
+    """Discrete update at an accepted state: an onset latches delta_dot_minus (floored) and
+    sets the flag, a separation clears it and resets the LuGre bristles; LuGre bristles of
+    points in contact are kept in the tangent plane (h.4). Returns (changed, nlog).
 
     changed is True if y or the discrete state changed (the FSAL stage is then invalid).
     """
     changed = False
-    iz = 13 * model.nb
+    iz = model.y_iz
     for k in range(model.nclr):
-        s = model.clr_bs[k]
-        b = model.clr_bb[k]
+        s = model.clr_ix[k, CI_BS]
+        b = model.clr_ix[k, CI_BB]
         _pose_at(model, wk, s, y, True)
         _pose_at(model, wk, b, y, True)
         _slides(model, wk, k, t)
-        e, el, delta = clearance_geometry(model, k, wk.bA, wk.br, wk.fval)
-        n = scale(1.0 / el, e) if el > 0.0 else (0.0, 0.0, 0.0)
-        zi = iz + 3 * k
-        if _wants(wk.cflag[k], delta):
-            arm_s, arm_b, us, ub = _centres(model, k, wk.bA, wk.br, wk.fval)
-            vPs = add(
-                add(
-                    (wk.brd[s, 0], wk.brd[s, 1], wk.brd[s, 2]),
-                    cross((wk.bw[s, 0], wk.bw[s, 1], wk.bw[s, 2]), arm_s),
-                ),
-                us,
+        for p in range(model.clr_ix[k, CI_P0], model.clr_ix[k, CI_P0] + model.clr_ix[k, CI_NP]):
+            delta, ddot, n, _, _, _, _ = point_contact(
+                model, p, wk.bA, wk.br, wk.brd, wk.bw, wk.fval
             )
-            vPb = add(
-                add(
-                    (wk.brd[b, 0], wk.brd[b, 1], wk.brd[b, 2]),
-                    cross((wk.bw[b, 0], wk.bw[b, 1], wk.bw[b, 2]), arm_b),
-                ),
-                ub,
-            )
-            ddot = dot(n, sub(vPb, vPs))
-            if wk.cflag[k] == 0:
-                wk.cflag[k] = 1
-                wk.cddm[k] = max(ddot, model.clr_geo[k, 3])
-                kind = 1.0
-            else:
-                wk.cflag[k] = 0
-                wk.cddm[k] = 0.0
-                y[zi] = 0.0
-                y[zi + 1] = 0.0
-                y[zi + 2] = 0.0
-                kind = -1.0
-            changed = True
-            if nlog < log.shape[0]:
-                es = mattvec(wk.bA[s], e)
-                Ts = model.clr_Ts[k]
-                log[nlog, 0] = t
-                log[nlog, 1] = k
-                log[nlog, 2] = kind
-                log[nlog, 3] = ddot
-                for a in range(3):
-                    log[nlog, 4 + a] = Ts[0, a] * es[0] + Ts[1, a] * es[1] + Ts[2, a] * es[2]
-            nlog += 1
-        elif wk.cflag[k] == 1 and model.clr_fric[k] == _LUGRE:
-            zn = y[zi] * n[0] + y[zi + 1] * n[1] + y[zi + 2] * n[2]
-            zz = math.sqrt(y[zi] ** 2 + y[zi + 1] ** 2 + y[zi + 2] ** 2)
-            if abs(zn) > 1e-3 * zz:
-                for a in range(3):
-                    y[zi + a] -= zn * n[a]
+            zi = iz + 3 * p
+            if _wants(cs.flag[p], delta):
+                if cs.flag[p] == 0:
+                    cs.flag[p] = 1
+                    cs.ddm[p] = max(ddot, model.clr_geo[k, CG_VFLOOR])
+                    kind = 1.0
+                else:
+                    cs.flag[p] = 0
+                    cs.ddm[p] = 0.0
+                    y[zi] = 0.0
+                    y[zi + 1] = 0.0
+                    y[zi + 2] = 0.0
+                    kind = -1.0
                 changed = True
+                if nlog < log.shape[0]:
+                    e, _ = eccentricity(model, k, wk.bA, wk.br, wk.fval)
+                    log[nlog, 0] = t
+                    log[nlog, 1] = p
+                    log[nlog, 2] = kind
+                    log[nlog, 3] = ddot
+                    for a in range(3):
+                        log[nlog, 4 + a] = e[a]
+                nlog += 1
+            elif cs.flag[p] == 1 and model.cp_ix[p, PI_FRIC] == _LUGRE:
+                zn = y[zi] * n[0] + y[zi + 1] * n[1] + y[zi + 2] * n[2]
+                zz = math.sqrt(y[zi] ** 2 + y[zi + 1] ** 2 + y[zi + 2] ** 2)
+                if abs(zn) > 1e-3 * zz:
+                    for a in range(3):
+                        y[zi + a] -= zn * n[a]
+                    changed = True
     return changed, nlog

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from clearance.contact.joint import contact_energy
+from clearance.contact.element import contact_energy, joint_outputs
 from clearance.dynamics.forces import kinetic_energy, potential_energy
 from clearance.dynamics.rhs import rhs
 from clearance.kinematics.rotations import cross, matvec, sub
@@ -17,6 +17,7 @@ from clearance.kinematics.rotations import cross, matvec, sub
 def post_process(
     model,
     wk,
+    cs,
     alpha,
     beta,
     solver,
@@ -36,23 +37,30 @@ def post_process(
     RF,
     RM,
     COUT,
+    POUT,
 ):
     """For each of the first n outputs fill VD (v_dot), LAM, PHI, PHID, EN (T, V, V_c), the
     reaction force RF and moment RM (world, about the joint point) of each block on its
-    reporting body (side 1: body j, side 0: body i), and the clearance diagnostics COUT."""
+    reporting body (side 1: body j, side 0: body i), and the clearance diagnostics COUT (per
+    joint) and POUT (per contact point). cs: scratch for the contact state of each sample,
+    taken from CS."""
     nb = model.nb
     yd = np.empty(Y.shape[1])
     for k in range(n):
         y = Y[k]
-        for c in range(model.nclr):
-            wk.cflag[c] = int(CS[k, c, 0])
-            wk.cddm[c] = CS[k, c, 1]
-        rhs(ts[k], y, model, wk, alpha, beta, solver, yd)
+        for p in range(model.ncp):
+            cs.flag[p] = int(CS[k, p, 0])
+            cs.ddm[p] = CS[k, p, 1]
+        rhs(ts[k], y, model, wk, cs, alpha, beta, solver, yd)
+        joint_outputs(model, wk)
         for c in range(model.nclr):
             for a in range(wk.cout.shape[1]):
                 COUT[k, c, a] = wk.cout[c, a]
+        for p in range(model.ncp):
+            for a in range(wk.pout.shape[1]):
+                POUT[k, p, a] = wk.pout[p, a]
         for i in range(6 * nb):
-            VD[k, i] = yd[7 * nb + i]
+            VD[k, i] = yd[model.y_iv + i]
         for r in range(model.nrow):
             LAM[k, r] = wk.lam[r]
             PHI[k, r] = wk.phi[r]

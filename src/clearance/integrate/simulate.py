@@ -10,48 +10,27 @@ import time as _time
 import numpy as np
 
 from clearance.analysis.assembly import assemble, rank_check, velocity_analysis
-from clearance.compile.compiled import NWORK, Compiled, compile_mechanism
-from clearance.contact.joint import CO_DELTA, CO_FN, NCOUT
+from clearance.compile.compiled import Compiled, compile_mechanism
+from clearance.contact.element import ContactState, make_contact_state
 from clearance.dynamics.rhs import make_work, rhs
 from clearance.integrate.buffers import prefaulted_copy, prefaulted_zeros
-from clearance.integrate.events import NLOG
-from clearance.integrate.loops import erk54, rk4
+from clearance.integrate.erk import erk54
+from clearance.integrate.methods import METHODS
 from clearance.integrate.post import post_process
-from clearance.integrate.tableau import (
-    DP5_A,
-    DP5_C,
-    DP5_E,
-    DP5_P,
-    TS5_A,
-    TS5_C,
-    TS5_E,
-    TS5_P,
-)
+from clearance.integrate.rk4 import rk4
+from clearance.integrate.state import Options, Outputs
 from clearance.kinds import (
     NSTATS,
-    ST_HLAST,
-    ST_HMAX,
-    ST_HMIN,
-    ST_NACC,
-    ST_NEVT,
-    ST_NFEV,
-    ST_NPROJ,
-    ST_NREJ,
+    STAT_NAMES,
     STATUS_MESSAGE,
     Solver,
     Status,
 )
+from clearance.layout import CO_DELTA, CO_FN, NCOUT, NLOG, NPOUT, WORK
 from clearance.model.drivers import DistanceDriver
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
 from clearance.store.result import Result
-
-METHODS = ("dopri5", "tsit5", "rk4")
-# the adaptive 5(4) pairs run by `erk54`: (A, C, E, P)
-_PAIRS = {
-    "dopri5": (DP5_A, DP5_C, DP5_E, DP5_P),
-    "tsit5": (TS5_A, TS5_C, TS5_E, TS5_P),
-}
 
 
 def _solver_code(c: Compiled, solver: str, y: np.ndarray, t: float) -> int:
@@ -66,8 +45,33 @@ def _solver_code(c: Compiled, solver: str, y: np.ndarray, t: float) -> int:
     return int(names[solver])
 
 
-def scipy_rhs(c: Compiled, *, baumgarte: tuple = (5.0, 5.0), solver: str = "schur"):
-    """f(t, y) for `scipy.integrate.solve_ivp`, calling the same compiled right-hand side."""
+def scipy_rhs(
+    c: Compiled,
+    *,
+    baumgarte: tuple = (5.0, 5.0),
+    solver: str = "schur",
+    contact_state: ContactState | None = None,
+):
+    """f(t, y) for `scipy.integrate.solve_ivp`, calling the same compiled right-hand side.
+
+    A mechanism with clearance joints has a discrete contact state (contact flags and the
+    impact velocities latched at the onsets, `ContactState`) that the own integrators update
+    on accepted steps only; `solve_ivp` has no such hook, so f would integrate a different
+    model. Such mechanisms are refused unless `contact_state` is given: f then evaluates with
+    that state held fixed (the caller latches it, e.g. stepping a scipy `OdeSolver` by hand
+    and calling `latch_contacts(c, contact_state, t, y)` after each accepted step).
+    """
+    if c.nclr and contact_state is None:
+        raise ModelError(
+            "scipy_rhs",
+            "mechanism",
+            c.mechanism.name,
+            f"has {c.nclr} clearance joint(s), whose contact state must be latched on "
+            "accepted steps, which solve_ivp cannot do: use clearance.simulate, or pass "
+            "contact_state=clearance.contact_state(c) and latch it yourself "
+            "(clearance.latch_contacts after each accepted step)",
+        )
+    cs = make_contact_state(c.model) if contact_state is None else contact_state
     wk = make_work(c.model)
     y_check = initial_state(c) if solver == "auto" else c.y0
     code = _solver_code(c, solver, y_check, 0.0)
@@ -83,7 +87,8 @@ def scipy_rhs(c: Compiled, *, baumgarte: tuple = (5.0, 5.0), solver: str = "schu
                 f"(Compiled.describe() shows the layout)"
             )
         out = np.empty_like(y)
-        st = rhs(float(t), np.ascontiguousarray(y, dtype=float), model, wk, alpha, beta, code, out)
+        y = np.ascontiguousarray(y, dtype=float)
+        st = rhs(float(t), y, model, wk, cs, alpha, beta, code, out)
         if st != 0:
             raise FloatingPointError(STATUS_MESSAGE[Status.SINGULAR] + f" at t = {t}")
         return out
@@ -101,8 +106,24 @@ def initial_state(
     if assemble_positions and c.nrow:
         y = assemble(c, y, t=t)
         y = velocity_analysis(c, y, t=t)
-    y[c.iw :] = 0.0  # work integrals start at zero
+    y[c.layout.iw :] = 0.0  # work integrals start at zero
     return y
+
+
+def contact_state(c: Compiled) -> ContactState:
+    """A contact state for `c` with every contact point out of contact (see `scipy_rhs`)."""
+    return make_contact_state(c.model)
+
+
+def latch_contacts(c: Compiled, cs: ContactState, t: float, y: np.ndarray) -> bool:
+    """The discrete update of the own integrators at an accepted state (t, y): latch onsets
+    and clear separations in cs, reset or project LuGre bristles in y (in place). Returns
+    True if cs or y changed."""
+    from clearance.integrate.events import update_contacts
+
+    log = np.zeros((0, NLOG))
+    changed, _ = update_contacts(c.model, make_work(c.model), cs, float(t), y, log, 0)
+    return bool(changed)
 
 
 def simulate(
@@ -168,78 +189,51 @@ def simulate(
     y = initial_state(c, t=t_start, y0=y0, assemble_positions=assemble_positions)
     code = _solver_code(c, solver, y, t_start)
     alpha, beta = (float(x) for x in baumgarte)
+    opts = Options(
+        alpha=alpha,
+        beta=beta,
+        solver=code,
+        rtol=float(rtol),
+        atol=float(atol),
+        h0=float(first_step),
+        hmax=float(max_step),
+        hmin=float(min_step),
+        max_steps=int(max_steps),
+        proj_tol=float(projection_tol) if projection else 0.0,
+        step=float(step),
+    )
+    out = Outputs(
+        t_out=t_out,
+        Y=prefaulted_zeros((t_out.size, c.ny)),
+        CS=np.zeros((t_out.size, c.ncp, 2)),
+        log=np.zeros((max_events if c.nclr else 0, NLOG)),
+        stats=np.zeros(NSTATS),
+        PK=np.zeros((c.nclr, 4)),
+    )
     wk = make_work(c.model)
-    Y = prefaulted_zeros((t_out.size, c.ny))
-    CS = np.zeros((t_out.size, c.nclr, 2))
-    log = np.zeros((max_events if c.nclr else 0, NLOG))
-    stats = np.zeros(NSTATS)
-    PK = np.zeros((c.nclr, 4))
-    ptol = float(projection_tol) if projection else 0.0
+    cs = make_contact_state(c.model)
     wall0 = _time.perf_counter()
-    if method in _PAIRS:
-        A, C, E, P = _PAIRS[method]
-        status, nout, t_reached, nlog = erk54(
-            c.model,
-            wk,
-            alpha,
-            beta,
-            code,
-            A,
-            C,
-            E,
-            P,
-            float(t_start),
-            y,
-            t_out,
-            float(rtol),
-            float(atol),
-            float(first_step),
-            float(max_step),
-            float(min_step),
-            int(max_steps),
-            ptol,
-            Y,
-            CS,
-            log,
-            stats,
-            PK,
-        )
-    else:
-        status, nout, t_reached, nlog = rk4(
-            c.model,
-            wk,
-            alpha,
-            beta,
-            code,
-            float(t_start),
-            y,
-            t_out,
-            float(step),
-            ptol,
-            Y,
-            CS,
-            log,
-            stats,
-            PK,
-        )
+    status, nout, t_reached, nlog = _run_loop(method, c.model, wk, cs, opts, out, t_start, y)
     wall = _time.perf_counter() - wall0
     message = STATUS_MESSAGE[Status(status)]
     if status != 0:
         message += f" (stopped at t = {t_reached:.6g} s; {nout} of {t_out.size} samples kept)"
+    log = out.log
     if nlog > log.shape[0]:
         message += f"; the event log kept the first {log.shape[0]} of {nlog} contact events"
     return _build_result(
         c,
         t_out[:nout],
-        Y[:nout],
-        CS[:nout],
+        out.Y[:nout],
+        out.CS[:nout],
         log[: min(nlog, log.shape[0])],
-        PK,
+        out.PK,
         wk,
+        cs,
         alpha,
         beta,
         code,
-        stats,
+        out.stats,
         wall,
         int(status),
         message,
@@ -258,8 +252,31 @@ def simulate(
     )
 
 
+def _run_loop(method, model, wk, cs, opts, out, t0, y) -> tuple[int, int, float, int]:
+    """Run the compiled loop of `method` (methods.METHODS)."""
+    loop, data = METHODS[method]
+    if loop == "erk54":
+        return erk54(model, wk, cs, opts, out, *data, float(t0), y)
+    return rk4(model, wk, cs, opts, out, float(t0), y)
+
+
 def _build_result(
-    c: Compiled, ts, Y, CS, log, PK, wk, alpha, beta, code, stats, wall, status, message, settings
+    c: Compiled,
+    ts,
+    Y,
+    CS,
+    log,
+    PK,
+    wk,
+    cs,
+    alpha,
+    beta,
+    code,
+    stats,
+    wall,
+    status,
+    message,
+    settings,
 ) -> Result:
     n = ts.size
     m = c.nrow
@@ -280,10 +297,12 @@ def _build_result(
     RF = prefaulted_zeros((n, nbk, 3))
     RM = prefaulted_zeros((n, nbk, 3))
     COUT = prefaulted_zeros((n, c.nclr, NCOUT))
+    POUT = prefaulted_zeros((n, c.ncp, NPOUT))
     if n:
         post_process(
             c.model,
             wk,
+            cs,
             alpha,
             beta,
             code,
@@ -303,10 +322,12 @@ def _build_result(
             RF,
             RM,
             COUT,
+            POUT,
         )
-    W = Y[:, c.iw : c.iw + NWORK]
-    Dn = Y[:, c.iw + NWORK : c.iw + NWORK + c.nclr]
-    Dt = Y[:, c.iw + NWORK + c.nclr : c.iw + NWORK + 2 * c.nclr]
+    lay = c.layout
+    W = Y[:, lay.iw : lay.idn]
+    Dn = Y[:, lay.idn : lay.idt]
+    Dt = Y[:, lay.idt : lay.ny]
     T, V, Vc = EN[:, 0], EN[:, 1], EN[:, 2]
     # physics.md j: residual = (T + V + V_c) - (.)(0) - W_c - W_a - W_m - W_L + D_n + D_t
     resid = (
@@ -340,11 +361,7 @@ def _build_result(
     energy = dict(
         kinetic=T,
         potential=V,
-        work_constraints=W[:, 0],
-        work_drivers=W[:, 1],
-        work_applied=W[:, 2],
-        work_moving=W[:, 3],
-        work_inertia=W[:, 4],
+        **{name: W[:, k] for k, (name, _) in enumerate(WORK)},
         contact=Vc,
         damping=Dn.sum(axis=1),
         friction=Dt.sum(axis=1),
@@ -358,17 +375,11 @@ def _build_result(
             if COUT[i, k, src] > peaks[k, col]:
                 peaks[k, col] = COUT[i, k, src]
                 peaks[k, col + 1] = ts[i]
-    st = dict(
-        nfev=int(stats[ST_NFEV]),
-        naccept=int(stats[ST_NACC]),
-        nreject=int(stats[ST_NREJ]),
-        nproject=int(stats[ST_NPROJ]),
-        hmin=float(stats[ST_HMIN]),
-        hmax=float(stats[ST_HMAX]),
-        hlast=float(stats[ST_HLAST]),
-        nevents=int(stats[ST_NEVT]),
-        wall_time=wall,
-    )
+    st: dict = {
+        name: (float(stats[k]) if name.startswith("h") else int(stats[k]))
+        for k, name in enumerate(STAT_NAMES)
+    }
+    st["wall_time"] = wall
     return Result(
         compiled=c,
         t=ts.copy(),
@@ -397,7 +408,10 @@ def _build_result(
         contact=COUT,
         contact_state=CS.copy(),
         dissipation=np.stack([Dn, Dt], axis=-1),
-        bristle=Y[:, c.iz : c.iw].reshape(n, c.nclr, 3).copy(),
+        bristle=Y[:, lay.iz : lay.iw].reshape(n, c.ncp, 3).copy(),
+        contact_points=POUT,
+        contact_point_names=tuple(cp.name for cp in c.contact_points),
+        contact_point_joints=tuple(cp.joint for cp in c.contact_points),
         events=log.copy(),
         contact_peaks=peaks,
     )

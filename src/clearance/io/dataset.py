@@ -50,19 +50,20 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from clearance.contact.joint import (
-    CO_DDOT,
-    CO_DELTA,
-    CO_E,
-    CO_FEL,
-    CO_FN,
-    CO_FT,
-    CO_N,
-    CO_PB,
-    CO_VT,
-    NCOUT,
-)
 from clearance.io.files import atomic_path
+from clearance.layout import (
+    CO_FN,
+    CO_FNV,
+    CO_N,
+    EV_E,
+    EV_POINT,
+    EV_T,
+    JOINT_COLUMNS,
+    NCOUT,
+    NLOG,
+    NPOUT,
+    POINT_COLUMNS,
+)
 from clearance.store.result import Result
 
 ENGINE = "h5netcdf"
@@ -235,56 +236,28 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
         )
 
     nclr = len(result.clearance_names)
+    ncp = len(result.contact_point_names)
     co = result.contact if result.contact is not None else np.zeros((n, nclr, NCOUT))
-    cs = result.contact_state if result.contact_state is not None else np.zeros((n, nclr, 2))
+    po = result.contact_points if result.contact_points is not None else np.zeros((n, ncp, NPOUT))
+    cs = result.contact_state if result.contact_state is not None else np.zeros((n, ncp, 2))
     dis = result.dissipation if result.dissipation is not None else np.zeros((n, nclr, 2))
-    br = result.bristle if result.bristle is not None else np.zeros((n, nclr, 3))
-    tc, tca = ("time", "clearance"), ("time", "clearance", "axis")
+    br = result.bristle if result.bristle is not None else np.zeros((n, ncp, 3))
+    for table, data, dim in ((JOINT_COLUMNS, co, "clearance"), (POINT_COLUMNS, po, "contact")):
+        for col in table:
+            x = data[:, :, col.cols]
+            x = x if col.sign == 1.0 else col.sign * x
+            dims = ("time", dim, "axis") if col.width == 3 else ("time", dim)
+            dv[col.name] = _var(
+                dims, x if col.width == 3 else x[:, :, 0], col.units, col.long_name, col.description
+            )
+    tc, tp = ("time", "clearance"), ("time", "contact")
     flag = cs[:, :, 0]
     if np.array_equal(flag, flag.astype(np.int8)):
         flag = flag.astype(np.int8)
     dv.update(
-        eccentricity=_var(
-            tca,
-            co[:, :, CO_E : CO_E + 3],
-            "m",
-            "eccentricity",
-            "ball centre relative to the socket centre, socket marker frame",
-        ),
-        penetration=_var(
-            tc, co[:, :, CO_DELTA], "m", "penetration", "delta = |e| - c (negative: free flight)"
-        ),
-        penetration_rate=_var(tc, co[:, :, CO_DDOT], "m s-1", "penetration rate delta_dot"),
-        contact_force=_var(tc, co[:, :, CO_FN], "N", "normal contact force magnitude F_N"),
-        elastic_force=_var(tc, co[:, :, CO_FEL], "N", "elastic part of F_N"),
-        contact_normal=_var(
-            tca, co[:, :, CO_N : CO_N + 3], "1", "contact normal n", "unit vector, world frame"
-        ),
-        normal_force=_var(
-            tca,
-            -co[:, :, CO_FN, None] * co[:, :, CO_N : CO_N + 3],
-            "N",
-            "normal contact force on the ball",
-            "-F_N n, world frame",
-        ),
-        friction_force=_var(
-            tca,
-            -co[:, :, CO_FT : CO_FT + 3],
-            "N",
-            "friction force on the ball",
-            "opposes slip, world frame",
-        ),
-        slip_velocity=_var(
-            tca,
-            co[:, :, CO_VT : CO_VT + 3],
-            "m s-1",
-            "tangential slip velocity",
-            "ball relative to socket, world frame",
-        ),
-        ball_centre=_var(tca, co[:, :, CO_PB : CO_PB + 3], "m", "ball centre", "world frame"),
-        contact_flag=_var(tc, flag, "1", "contact flag", "1 in contact (discrete state)"),
+        contact_flag=_var(tp, flag, "1", "contact flag", "1 in contact (discrete state)"),
         impact_velocity=_var(
-            tc,
+            tp,
             cs[:, :, 1],
             "m s-1",
             "impact velocity",
@@ -294,7 +267,7 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
             tc, dis[:, :, 0], "J", "normal-damping dissipation D_n", "cumulative"
         ),
         dissipation_friction=_var(tc, dis[:, :, 1], "J", "friction work D_t", "cumulative"),
-        bristle=_var(tca, br, "m", "LuGre bristle deflection z", "world frame"),
+        bristle=_var((*tp, "axis"), br, "m", "LuGre bristle deflection z", "world frame"),
     )
     if result.contact_peaks is not None:
         pk = np.asarray(result.contact_peaks, dtype=float)
@@ -309,16 +282,24 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
                 ("clearance",), pk[:, 3], "s", "time of the largest penetration"
             ),
         )
-    ev = result.events if result.events is not None else np.zeros((0, 7))
-    jidx = ev[:, 1].astype(np.int64)
+    ev = result.events if result.events is not None else np.zeros((0, NLOG))
+    pidx = ev[:, EV_POINT].astype(np.int64)
+    jnames = [result.contact_point_joints[k] for k in pidx]
     dv.update(
-        event_time=_var(("event",), ev[:, 0], "s", "event time"),
-        event_joint=_var(("event",), jidx, "1", "clearance joint index"),
-        event_clearance=_var(
+        event_time=_var(("event",), ev[:, EV_T], "s", "event time"),
+        event_joint=_var(
             ("event",),
-            _strings(result.clearance_names[k] for k in jidx),
+            np.array([result.clearance_names.index(j) for j in jnames], dtype=np.int64),
             "1",
-            "clearance joint name",
+            "clearance joint index",
+        ),
+        event_clearance=_var(("event",), _strings(jnames), "1", "clearance joint name"),
+        event_point=_var(("event",), pidx, "1", "contact point index"),
+        event_contact=_var(
+            ("event",),
+            _strings(result.contact_point_names[k] for k in pidx),
+            "1",
+            "contact point name",
         ),
         event_kind=_var(
             ("event",),
@@ -335,7 +316,11 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
             "impact velocity at onsets",
         ),
         event_eccentricity=_var(
-            ("event", "axis"), ev[:, 4:7], "m", "eccentricity at the event", "socket marker frame"
+            ("event", "axis"),
+            ev[:, EV_E : EV_E + 3],
+            "m",
+            "eccentricity at the event",
+            "the joint's, outer marker frame",
         ),
     )
 
@@ -359,26 +344,55 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
         "driver": _var(("driver_row",), _strings(dnames), "1", "driver name"),
         "driver_units": _var(("driver_row",), _strings(dunits), "1", "actuator force units"),
         "clearance": _var(("clearance",), _strings(result.clearance_names), "1", "clearance joint"),
+        "clearance_kind": _var(
+            ("clearance",),
+            _strings(i.kind for i in cinfo),
+            "1",
+            "kind of clearance joint",
+            "spherical, revolute, cylindrical or prismatic",
+        ),
+        "clearance_model": _var(
+            ("clearance",), _strings(i.model for i in cinfo), "1", "planar or spatial model"
+        ),
+        "contact": _var(("contact",), _strings(result.contact_point_names), "1", "contact point"),
+        "contact_clearance": _var(
+            ("contact",),
+            _strings(result.contact_point_joints),
+            "1",
+            "clearance joint of the contact point",
+        ),
         "clearance_socket_body": _var(
-            ("clearance",), _strings(i.socket_body for i in cinfo), "1", "body holding the socket"
+            ("clearance",),
+            _strings(i.socket_body for i in cinfo),
+            "1",
+            "body holding the socket (bearing, guide)",
         ),
         "clearance_ball_body": _var(
-            ("clearance",), _strings(i.ball_body for i in cinfo), "1", "body holding the ball"
+            ("clearance",),
+            _strings(i.ball_body for i in cinfo),
+            "1",
+            "body holding the ball (journal, slider)",
         ),
         "radial_clearance": _var(
             ("clearance",),
             np.array([i.c for i in cinfo], dtype=float),
             "m",
-            "radial clearance c = R_s - R_b",
+            "radial clearance c",
+            "R_s - R_b (bearing - journal radius; prismatic: gap per side, width direction)",
         ),
         "ball_radius": _var(
-            ("clearance",), np.array([i.ball_radius for i in cinfo], float), "m", "ball radius R_b"
+            ("clearance",),
+            np.array([i.ball_radius for i in cinfo], float),
+            "m",
+            "inner radius",
+            "ball / journal radius; prismatic: slider half width",
         ),
         "socket_radius": _var(
             ("clearance",),
             np.array([i.socket_radius for i in cinfo], float),
             "m",
-            "socket radius R_s",
+            "outer radius",
+            "socket / bearing radius; prismatic: guide half width",
         ),
         "normal_law": _var(
             ("clearance",), _strings(i.normal for i in cinfo), "1", "normal contact law"
@@ -424,11 +438,13 @@ def dataset_to_arrays(ds: xr.Dataset) -> dict:
     """The `Result` arrays back from a dataset (same names and shapes as the `Result` fields).
 
     Keys: t, q, v, a, lam, phi, phi_dot, reaction_force, reaction_moment, driver_force,
-    energy (dict), contact (n, nclr, NCOUT; the elastic/normal/friction columns restored),
-    contact_state, dissipation, bristle, events (nevents, 7), contact_peaks (nclr, 4; None in
-    files written before it existed), and the names body_names,
-    blocks, reaction_body, driver_names, clearance_names; status, message, settings (dict),
-    stats (dict).
+    energy (dict), contact (n, nclr, NCOUT) and contact_points (n, ncp, NPOUT) (every column
+    of layout.JOINT_COLUMNS / POINT_COLUMNS restored), contact_state, dissipation, bristle,
+    events (nevents, NLOG), contact_peaks (nclr, 4; None in files written before it
+    existed), and the names body_names, blocks, reaction_body, driver_names,
+    clearance_names, contact_point_names, contact_point_joints; status, message, settings
+    (dict), stats (dict). Files of version 0.1 (one contact point per joint, no point
+    channels) read as well.
     """
     n = ds.sizes["time"]
     nb = ds.sizes["body"]
@@ -437,25 +453,25 @@ def dataset_to_arrays(ds: xr.Dataset) -> dict:
     v = np.concatenate([g["velocity"], g["angular_velocity_body"]], axis=2).reshape(n, 6 * nb)
     a = np.concatenate([g["acceleration"], g["angular_acceleration_body"]], axis=2)
     nclr = ds.sizes["clearance"]
+    # files before contact points existed (0.1) have one point per joint, on "clearance"
+    old = "contact" not in ds.dims
+    points = tuple(str(x) for x in g["clearance" if old else "contact"])
+    point_joints = points if old else tuple(str(x) for x in g["contact_clearance"])
     co = np.zeros((n, nclr, NCOUT))
-    co[:, :, CO_E : CO_E + 3] = g["eccentricity"]
-    co[:, :, CO_DELTA] = g["penetration"]
-    co[:, :, CO_DDOT] = g["penetration_rate"]
-    co[:, :, CO_FN] = g["contact_force"]
-    co[:, :, CO_FEL] = g["elastic_force"]
-    co[:, :, CO_N : CO_N + 3] = g["contact_normal"]
-    co[:, :, CO_FT : CO_FT + 3] = -g["friction_force"]
-    co[:, :, CO_VT : CO_VT + 3] = g["slip_velocity"]
-    co[:, :, CO_PB : CO_PB + 3] = g["ball_centre"]
-    ev = np.column_stack(
-        [
-            g["event_time"],
-            g["event_joint"].astype(float),
-            g["event_kind"].astype(float),
-            g["event_penetration_rate"],
-            g["event_eccentricity"].reshape(-1, 3),
-        ]
-    )
+    po = np.zeros((n, len(points), NPOUT))
+    for table, data in ((JOINT_COLUMNS, co), (POINT_COLUMNS, po)):
+        for col in table:
+            if col.name in g:
+                x = g[col.name] if col.width == 3 else g[col.name][:, :, None]
+                data[:, :, col.cols] = x if col.sign == 1.0 else col.sign * x
+    if "normal_force" not in ds.data_vars or old:  # 0.1 files: derived from F_N and n
+        co[:, :, CO_FNV : CO_FNV + 3] = co[:, :, CO_FN, None] * co[:, :, CO_N : CO_N + 3]
+    ev = np.zeros((ds.sizes["event"], NLOG))
+    ev[:, EV_T] = g["event_time"]
+    ev[:, EV_POINT] = g["event_joint" if old else "event_point"]
+    ev[:, 2] = g["event_kind"]
+    ev[:, 3] = g["event_penetration_rate"]
+    ev[:, EV_E : EV_E + 3] = g["event_eccentricity"].reshape(-1, 3)
     stats = {k[6:]: v for k, v in ds.attrs.items() if k.startswith("stats_")}
     return dict(
         t=g["time"],
@@ -470,6 +486,9 @@ def dataset_to_arrays(ds: xr.Dataset) -> dict:
         driver_force=g["actuator_force"],
         energy={k[7:]: g[k] for k in ds.data_vars if str(k).startswith("energy_")},
         contact=co,
+        contact_points=po,
+        contact_point_names=points,
+        contact_point_joints=point_joints,
         contact_state=np.stack([g["contact_flag"].astype(float), g["impact_velocity"]], axis=-1),
         dissipation=np.stack([g["dissipation_damping"], g["dissipation_friction"]], axis=-1),
         bristle=g["bristle"],

@@ -1,30 +1,61 @@
-"""`Clearance`: turns a spherical joint into a ball-in-socket force element (physics.md f).
+"""Clearance joints: a joint whose ideal constraint is replaced by contact forces.
+
+One argument turns a joint into a clearance joint, for every kind of the family:
 
     Spherical("S1", "platform_B1", "leg1_B", clearance=Clearance(ball_radius=0.015,
               radial_clearance=0.3e-3, normal=Flores(restitution=0.9), friction=LuGre()))
+    Revolute("R1", "crank_pin", "rod_end", clearance=RevoluteClearance(journal_radius=0.0095,
+             radial_clearance=0.5e-3, model="planar"))
+    Cylindrical("C1", ..., clearance=RevoluteClearance(..., model="spatial", length=0.03))
+    Prismatic("P1", "guide", "slider", clearance=PrismaticClearance(width=0.05, length=0.1,
+              clearance=1e-3, normal=LankaraniNikravesh(stiffness=1e10)))
+    mech = mech.with_clearance("S1", Clearance(...))     # or on an existing mechanism
 
-The joint's three constraint rows are removed and the contact force element is added: the
-ball (centre = one marker's point) moves freely inside the socket (centre = the other
-marker's point) until they touch. `socket` says which marker's body holds the socket.
+Geometry kinds (kinds.ClearanceKind), each with its contact kernel in `clearance.contact`:
+
+* `Clearance` (alias `SphericalClearance`): ball in socket, one point contact (physics.md
+  f). The joint's 3 rows are removed.
+* `RevoluteClearance`: journal in bearing, on a Revolute or a Cylindrical joint.
+  model="planar": the classic planar model (Flores & Ambrosio 2004): one contact in the
+  bearing's mid-plane; the rows that keep the journal aligned with the bearing (and, for a
+  revolute joint, axially in place) stay ideal, only the 2 radial rows are removed.
+  model="spatial": the journal may also tilt (and slide axially): `stations` bearing
+  cross-sections along its length carry the line contact (edge loading of a tilted journal
+  follows); a revolute joint keeps its axial row ideal unless `axial_clearance` is given,
+  in which case the journal's collars meet the bearing's end faces at `thrust_points`
+  points each (thrust contact). See `clearance.contact.journal` for the geometry.
+* `PrismaticClearance`: slider in guide (Flores et al. 2008), corners against walls.
+  model="planar": motion in the plane of the guide marker's f and h axes (g normal to it;
+  the rows that keep it there stay ideal), 4 corners against the two f walls;
+  model="spatial": the 8 corners of the slider box against all four walls.
+
+The contact laws are those of `clearance.model.contact_laws`; `socket` / `bearing` / `guide`
+say which marker's body holds the outer part ("i", default, or "j").
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
+from clearance.kinds import ClearanceKind, JointType
 from clearance.model.contact_laws import (
     FRICTION_LAWS,
     NORMAL_LAWS,
     STEEL,
     Flores,
     FrictionContactLaw,
+    LankaraniNikravesh,
     Material,
     NoFriction,
+    NonlinearStiffness,
     NormalContactLaw,
 )
 from clearance.model.errors import ModelError
+
+MODELS = ("planar", "spatial")
 
 
 def _pos(who: str, field: str, v: object, *, allow_zero: bool = False) -> float:
@@ -37,12 +68,100 @@ def _pos(who: str, field: str, v: object, *, allow_zero: bool = False) -> float:
     return x
 
 
+def _count(who: str, field: str, v: object, lo: int) -> int:
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < lo:
+        raise ModelError(who, field, v, f"expected an integer >= {lo}")
+    return int(v)
+
+
+def _set(obj: object, name: str, value: object) -> None:
+    object.__setattr__(obj, name, value)
+
+
+def _radii(obj: object, who: str, inner: str, outer: str) -> None:
+    """Exactly one of the outer radius and radial_clearance; both stored, `given` says which
+    the user gave (files write that one back)."""
+    ri = _pos(who, inner, getattr(obj, inner))
+    ro_given, c_given = getattr(obj, outer), obj.radial_clearance  # type: ignore[attr-defined]
+    if ro_given is not None and c_given is not None:
+        # both: accepted when they agree (a copy made with dataclasses.replace carries both)
+        ro, c = _pos(who, outer, ro_given), _pos(who, "radial_clearance", c_given)
+        if not abs(ro - ri - c) <= 1e-9 * c:
+            raise ModelError(
+                who,
+                outer,
+                ro_given,
+                f"give exactly one of {outer} and radial_clearance (or both agreeing: "
+                f"{outer} - {inner} = {ro - ri!r} != radial_clearance = {c!r})",
+            )
+        c_given = None if obj.given == outer else c_given  # type: ignore[attr-defined]
+        ro_given = None if c_given is not None else ro_given
+    if (ro_given is None) == (c_given is None):
+        raise ModelError(who, outer, ro_given, f"give exactly one of {outer} and radial_clearance")
+    if ro_given is not None:
+        ro = _pos(who, outer, ro_given)
+        if ro <= ri:
+            raise ModelError(who, outer, ro_given, f"must exceed {inner} = {ri} (clearance > 0)")
+        c = ro - ri
+    else:
+        c = _pos(who, "radial_clearance", c_given)  # kept exactly as given
+        ro = ri + c
+    _set(obj, "given", outer if c_given is None else "radial_clearance")
+    _set(obj, inner, ri)
+    _set(obj, outer, ro)
+    _set(obj, "radial_clearance", c)
+
+
+def _side(who: str, name: str, v: object) -> None:
+    if v not in ("i", "j"):
+        raise ModelError(who, name, v, "allowed: 'i' or 'j' (the marker whose body holds it)")
+
+
+def _laws(obj: object, who: str, normals: tuple[str, ...] = ("normal",)) -> None:
+    for name in normals:
+        law = getattr(obj, name)
+        if name != "normal" and law is None:
+            continue
+        if not isinstance(law, NormalContactLaw):
+            raise ModelError(
+                who,
+                name,
+                law,
+                f"expected a normal contact law, one of {sorted(NORMAL_LAWS)} "
+                "(e.g. Flores(restitution=0.9))",
+            )
+    if not isinstance(obj.friction, FrictionContactLaw):  # type: ignore[attr-defined]
+        raise ModelError(
+            who,
+            "friction",
+            obj.friction,  # type: ignore[attr-defined]
+            f"expected a friction law, one of {sorted(FRICTION_LAWS)} (e.g. LuGre())",
+        )
+
+
+def _common(obj: object, who: str, materials: tuple[str, str]) -> None:
+    for name in materials:
+        if not isinstance(getattr(obj, name), Material):
+            raise ModelError(who, name, getattr(obj, name), "expected a Material(E, nu)")
+    _set(obj, "velocity_floor", _pos(who, "velocity_floor", obj.velocity_floor))  # type: ignore[attr-defined]
+    tol = _pos(who, "onset_tolerance", obj.onset_tolerance)  # type: ignore[attr-defined]
+    if tol >= 0.5:
+        raise ModelError(who, "onset_tolerance", tol, "expected a fraction < 0.5 of c")
+    _set(obj, "onset_tolerance", tol)
+
+
+def _model(obj: object, who: str) -> None:
+    if obj.model not in MODELS:  # type: ignore[attr-defined]
+        raise ModelError(who, "model", obj.model, f"allowed: {', '.join(MODELS)}")  # type: ignore[attr-defined]
+
+
 @dataclass(frozen=True)
 class Clearance:
-    """Spherical clearance joint parameters.
+    """Spherical clearance joint (ball in socket, physics.md f).
 
     ball_radius R_b [m]; give either socket_radius R_s [m] or radial_clearance c = R_s - R_b
-    [m] (> 0). socket: "i" or "j", the marker whose body holds the socket (default "i").
+    [m] (> 0) (both are accepted when they agree, as in a copy by dataclasses.replace).
+    socket: "i" or "j", the marker whose body holds the socket (default "i").
     normal: normal contact law; friction: friction law (see clearance.model.contact_laws).
     ball_material / socket_material: used when a law's stiffness is computed from materials.
     velocity_floor: floor of the impact velocity delta_dot_minus captured at onset [m/s]
@@ -63,59 +182,201 @@ class Clearance:
     # which of socket_radius / radial_clearance the user gave (files write that one back)
     given: str = field(default="radial_clearance", init=False, repr=False, compare=False)
 
+    kind: ClassVar[ClearanceKind] = ClearanceKind.SPHERICAL
+    joints: ClassVar[tuple[JointType, ...]] = (JointType.SPHERICAL,)
+
     def __post_init__(self) -> None:
         who = "Clearance"
-        rb = _pos(who, "ball_radius", self.ball_radius)
-        if (self.socket_radius is None) == (self.radial_clearance is None):
-            raise ModelError(
-                who,
-                "socket_radius",
-                self.socket_radius,
-                "give exactly one of socket_radius and radial_clearance",
-            )
-        if self.socket_radius is not None:
-            rs = _pos(who, "socket_radius", self.socket_radius)
-            if rs <= rb:
-                raise ModelError(
-                    who,
-                    "socket_radius",
-                    self.socket_radius,
-                    f"must exceed ball_radius = {rb} (clearance > 0)",
-                )
-            c = rs - rb
-        else:
-            c = _pos(who, "radial_clearance", self.radial_clearance)  # kept exactly as given
-            rs = rb + c
-        object.__setattr__(
-            self, "given", "socket_radius" if self.radial_clearance is None else "radial_clearance"
-        )
-        object.__setattr__(self, "ball_radius", rb)
-        object.__setattr__(self, "socket_radius", rs)
-        object.__setattr__(self, "radial_clearance", c)
-        if self.socket not in ("i", "j"):
-            raise ModelError(who, "socket", self.socket, "allowed: 'i' or 'j'")
-        if not isinstance(self.normal, NormalContactLaw):
-            raise ModelError(
-                who,
-                "normal",
-                self.normal,
-                f"expected a normal contact law, one of {sorted(NORMAL_LAWS)} "
-                "(e.g. Flores(restitution=0.9))",
-            )
-        if not isinstance(self.friction, FrictionContactLaw):
-            raise ModelError(
-                who,
-                "friction",
-                self.friction,
-                f"expected a friction law, one of {sorted(FRICTION_LAWS)} (e.g. LuGre())",
-            )
-        object.__setattr__(self, "velocity_floor", _pos(who, "velocity_floor", self.velocity_floor))
-        tol = _pos(who, "onset_tolerance", self.onset_tolerance)
-        if tol >= 0.5:
-            raise ModelError(who, "onset_tolerance", tol, "expected a fraction < 0.5 of c")
-        object.__setattr__(self, "onset_tolerance", tol)
+        _radii(self, who, "ball_radius", "socket_radius")
+        _side(who, "socket", self.socket)
+        _laws(self, who)
+        _common(self, who, ("ball_material", "socket_material"))
 
     @property
     def c(self) -> float:
         """Radial clearance R_s - R_b [m]."""
         return float(self.radial_clearance)  # type: ignore[arg-type]
+
+    @property
+    def outer(self) -> str:
+        """The marker ("i" or "j") whose body holds the socket."""
+        return self.socket
+
+    def kept_rows(self, joint: JointType) -> int:
+        """Constraint rows of the joint that stay ideal (none: the ball moves freely)."""
+        return 0
+
+
+SphericalClearance = Clearance
+
+
+@dataclass(frozen=True)
+class RevoluteClearance:
+    """Journal in bearing: a Revolute or Cylindrical joint with radial clearance.
+
+    journal_radius R_J [m]; bearing_radius R_B [m] or radial_clearance c = R_B - R_J (> 0).
+    model: "planar" (one contact in the bearing mid-plane; alignment and, for a revolute
+    joint, the axial position stay ideal) or "spatial" (the journal tilts; `stations` >= 2
+    bearing cross-sections over `length`, the bearing (contact) length [m], carry the line
+    contact). axial_clearance c_a [m] (spatial revolute only): gap between each journal
+    collar and the bearing's end face; None keeps the axial position ideal. thrust_radius
+    [m] (default 1.25 R_B) and thrust_points (per face) place the thrust contact points.
+    bearing: the marker ("i" or "j") whose body holds the bearing.
+    normal: law of the radial contact, for the whole bearing length (a station takes its
+    share of it); thrust_normal: law of the thrust faces (None: `normal`), for a whole face.
+    Stiffness from the materials: the internal Hertz K of the radii (Flores & Ambrosio
+    2004). Default normal law: Lankarani-Nikravesh, c_r = 0.9 (the revolute literature's).
+    """
+
+    journal_radius: float
+    bearing_radius: float | None = None
+    radial_clearance: float | None = None
+    model: str = "planar"
+    length: float | None = None
+    stations: int = 5
+    axial_clearance: float | None = None
+    thrust_radius: float | None = None
+    thrust_points: int = 4
+    bearing: str = "i"
+    normal: object = LankaraniNikravesh()
+    thrust_normal: object = None
+    friction: object = NoFriction()
+    journal_material: Material = STEEL
+    bearing_material: Material = STEEL
+    velocity_floor: float = 1e-4
+    onset_tolerance: float = 1e-3
+    given: str = field(default="radial_clearance", init=False, repr=False, compare=False)
+
+    kind: ClassVar[ClearanceKind] = ClearanceKind.REVOLUTE
+    joints: ClassVar[tuple[JointType, ...]] = (JointType.REVOLUTE, JointType.CYLINDRICAL)
+
+    def __post_init__(self) -> None:
+        who = "RevoluteClearance"
+        _radii(self, who, "journal_radius", "bearing_radius")
+        _model(self, who)
+        _side(who, "bearing", self.bearing)
+        _laws(self, who, ("normal", "thrust_normal"))
+        _common(self, who, ("journal_material", "bearing_material"))
+        for law_field in ("normal", "thrust_normal"):
+            if isinstance(getattr(self, law_field), NonlinearStiffness):
+                raise ModelError(
+                    who,
+                    law_field,
+                    getattr(self, law_field),
+                    "NonlinearStiffness is the conformal ball-in-socket law; use a point or "
+                    "line contact law for a journal",
+                )
+        if self.model == "spatial":
+            if self.length is None:
+                raise ModelError(who, "length", None, "the spatial model needs the bearing length")
+            _set(self, "stations", _count(who, "stations", self.stations, 2))
+        else:
+            for name, default in (("axial_clearance", None), ("thrust_normal", None)):
+                if getattr(self, name) is not default:
+                    raise ModelError(
+                        who,
+                        name,
+                        getattr(self, name),
+                        "only for model='spatial' (planar keeps the journal axially in place)",
+                    )
+            _set(self, "stations", _count(who, "stations", self.stations, 1))
+        if self.length is not None:
+            _set(self, "length", _pos(who, "length", self.length))
+        if self.axial_clearance is not None:
+            _set(self, "axial_clearance", _pos(who, "axial_clearance", self.axial_clearance))
+            _set(self, "thrust_points", _count(who, "thrust_points", self.thrust_points, 3))
+        rt = 1.25 * float(self.bearing_radius) if self.thrust_radius is None else self.thrust_radius  # type: ignore[arg-type]
+        _set(self, "thrust_radius", _pos(who, "thrust_radius", rt))
+
+    @property
+    def c(self) -> float:
+        """Radial clearance R_B - R_J [m]."""
+        return float(self.radial_clearance)  # type: ignore[arg-type]
+
+    @property
+    def outer(self) -> str:
+        return self.bearing
+
+    def kept_rows(self, joint: JointType) -> int:
+        """Rows of the joint that stay ideal: planar 2 alignment rows (+ the axial row of a
+        revolute joint); spatial the axial row of a revolute joint without axial clearance."""
+        axial = joint == JointType.REVOLUTE and self.axial_clearance is None
+        return (2 if self.model == "planar" else 0) + (1 if axial else 0)
+
+
+@dataclass(frozen=True)
+class PrismaticClearance:
+    """Slider in guide: a Prismatic joint with clearance (Flores et al. 2008).
+
+    The slider is a box with its centre at its marker's point: width (along the marker's f
+    axis), height (along g; spatial model), length (along h, the sliding axis) [m]; the
+    guide's walls leave `clearance` [m] on each side in f and `clearance_height` (default
+    `clearance`) in g. model: "planar" (motion in the guide marker's f-h plane, kept there by
+    ideal rows; 4 corners against the f walls) or "spatial" (8 corners, 4 walls).
+    guide: the marker ("i" or "j") whose body holds the guide. normal: law of one
+    corner-wall contact; its stiffness must be given, or corner_radius [m], the radius of
+    the rounded corners, gives the Hertz stiffness of a sphere on a flat (materials).
+    """
+
+    width: float
+    length: float
+    clearance: float
+    height: float | None = None
+    clearance_height: float | None = None
+    model: str = "planar"
+    corner_radius: float | None = None
+    guide: str = "i"
+    normal: object = LankaraniNikravesh()
+    friction: object = NoFriction()
+    slider_material: Material = STEEL
+    guide_material: Material = STEEL
+    velocity_floor: float = 1e-4
+    onset_tolerance: float = 1e-3
+
+    kind: ClassVar[ClearanceKind] = ClearanceKind.PRISMATIC
+    joints: ClassVar[tuple[JointType, ...]] = (JointType.PRISMATIC,)
+
+    def __post_init__(self) -> None:
+        who = "PrismaticClearance"
+        for name in ("width", "length", "clearance"):
+            _set(self, name, _pos(who, name, getattr(self, name)))
+        _model(self, who)
+        if self.model == "spatial":
+            if self.height is None:
+                raise ModelError(who, "height", None, "the spatial model needs the slider height")
+            _set(self, "height", _pos(who, "height", self.height))
+            ch = self.clearance if self.clearance_height is None else self.clearance_height
+            _set(self, "clearance_height", _pos(who, "clearance_height", ch))
+        if self.corner_radius is not None:
+            _set(self, "corner_radius", _pos(who, "corner_radius", self.corner_radius))
+        _side(who, "guide", self.guide)
+        _laws(self, who)
+        if isinstance(self.normal, NonlinearStiffness):
+            raise ModelError(
+                who, "normal", self.normal, "NonlinearStiffness is the ball-in-socket law"
+            )
+        if getattr(self.normal, "stiffness", 0.0) is None and self.corner_radius is None:
+            raise ModelError(
+                who,
+                "normal",
+                self.normal,
+                "a slider corner has no radius for a Hertz stiffness: give the law's "
+                "stiffness, or corner_radius",
+            )
+        _common(self, who, ("slider_material", "guide_material"))
+
+    @property
+    def c(self) -> float:
+        """Clearance per side in the width direction [m]."""
+        return self.clearance
+
+    @property
+    def outer(self) -> str:
+        return self.guide
+
+    def kept_rows(self, joint: JointType) -> int:
+        """Planar: 3 rows keep the slider in the guide's f-h plane; spatial: none."""
+        return 3 if self.model == "planar" else 0
+
+
+CLEARANCE_TYPES = (Clearance, RevoluteClearance, PrismaticClearance)

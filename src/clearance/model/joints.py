@@ -1,4 +1,4 @@
-"""Ideal joints between two markers (physics.md c.3).
+"""Joints between two markers (physics.md c.3), ideal or with clearance.
 
 Each joint names a marker on body i and a marker on body j; the markers coincide at assembly.
 Rows (Newton-Euler velocity form): Spherical 3, Universal 4, Revolute 5, Cylindrical 4,
@@ -8,6 +8,10 @@ Prismatic 5, Fixed 6. Axis conventions (marker triad columns f, g, h):
 - Revolute: the rotation axis is h_i = h_j.
 - Cylindrical / Prismatic: the sliding axis is h_i = h_j; Prismatic also locks rotation
   about it (f_i . g_j = 0).
+
+Spherical, Revolute, Cylindrical and Prismatic joints take `clearance=` (a clearance of
+their kind, `clearance.model.clearance`): the rows the clearance frees are removed and its
+contact force element acts instead.
 """
 
 from __future__ import annotations
@@ -16,7 +20,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from clearance.kinds import JOINT_ROWS, JointType
-from clearance.model.clearance import Clearance
+from clearance.model.clearance import CLEARANCE_TYPES, RevoluteClearance
 from clearance.model.errors import ModelError
 
 
@@ -43,7 +47,30 @@ class Joint:
 
     @property
     def nrows(self) -> int:
-        return JOINT_ROWS[self.kind]
+        clr = getattr(self, "clearance", None)
+        return JOINT_ROWS[self.kind] if clr is None else clr.kept_rows(self.kind)
+
+    def _check_clearance(self) -> None:
+        """A clearance of a kind that fits this joint, or None."""
+        clr = getattr(self, "clearance", None)
+        if clr is None:
+            return
+        fits = [c.__name__ for c in CLEARANCE_TYPES if self.kind in c.joints]
+        if not isinstance(clr, CLEARANCE_TYPES) or self.kind not in clr.joints:
+            raise ModelError(
+                f"{type(self).__name__} '{self.name}'",
+                "clearance",
+                clr,
+                f"expected {' or '.join(fits)}(...) or None",
+            )
+        if self.kind == JointType.CYLINDRICAL and isinstance(clr, RevoluteClearance):
+            if clr.axial_clearance is not None:
+                raise ModelError(
+                    f"Cylindrical '{self.name}'",
+                    "clearance.axial_clearance",
+                    clr.axial_clearance,
+                    "a cylindrical joint slides freely along its axis: no thrust faces",
+                )
 
 
 @dataclass(frozen=True)
@@ -60,17 +87,7 @@ class Spherical(Joint):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.clearance is not None and not isinstance(self.clearance, Clearance):
-            raise ModelError(
-                f"Spherical '{self.name}'",
-                "clearance",
-                self.clearance,
-                "expected a Clearance(...) or None",
-            )
-
-    @property
-    def nrows(self) -> int:
-        return 0 if self.clearance is not None else 3
+        self._check_clearance()
 
 
 @dataclass(frozen=True)
@@ -82,23 +99,43 @@ class Universal(Joint):
 
 @dataclass(frozen=True)
 class Revolute(Joint):
-    """Hinge about h_i = h_j (5 rows)."""
+    """Hinge about h_i = h_j (5 rows); clearance: a RevoluteClearance (journal in bearing)."""
+
+    clearance: object = None
 
     kind: ClassVar[JointType] = JointType.REVOLUTE
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self._check_clearance()
 
 
 @dataclass(frozen=True)
 class Cylindrical(Joint):
-    """Slides along and rotates about h_i = h_j (4 rows)."""
+    """Slides along and rotates about h_i = h_j (4 rows); clearance: a RevoluteClearance
+    without axial clearance (journal sliding in a bearing)."""
+
+    clearance: object = None
 
     kind: ClassVar[JointType] = JointType.CYLINDRICAL
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self._check_clearance()
 
 
 @dataclass(frozen=True)
 class Prismatic(Joint):
-    """Slides along h_i = h_j, no relative rotation (5 rows)."""
+    """Slides along h_i = h_j, no relative rotation (5 rows); clearance: a
+    PrismaticClearance (slider in guide)."""
+
+    clearance: object = None
 
     kind: ClassVar[JointType] = JointType.PRISMATIC
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self._check_clearance()
 
 
 @dataclass(frozen=True)

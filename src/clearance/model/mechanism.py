@@ -220,19 +220,20 @@ class Mechanism:
         return m.validate()
 
     def with_clearance(self, joint: str, clearance: object) -> Mechanism:
-        """A copy in which spherical joint `joint` has `clearance` (None: ideal again)."""
+        """A copy in which joint `joint` has `clearance` (None: ideal again): a Clearance on a
+        Spherical joint, a RevoluteClearance on a Revolute or Cylindrical joint, a
+        PrismaticClearance on a Prismatic joint (`clearance.model.clearance`)."""
         from dataclasses import replace
 
-        from clearance.model.joints import Spherical
-
         jt = self.joints.get(joint)
-        if not isinstance(jt, Spherical):
+        if not hasattr(jt, "clearance"):
+            able = [n for n, j in self.joints.items() if hasattr(j, "clearance")]
             raise ModelError(
                 f"Mechanism '{self.name}'",
                 "with_clearance",
                 joint,
-                "expected the name of a Spherical joint; spherical joints: "
-                f"{[n for n, j in self.joints.items() if isinstance(j, Spherical)]}",
+                "expected the name of a spherical, revolute, cylindrical or prismatic joint; "
+                f"joints that can have clearance: {able}",
             )
         return self.replace(**{joint: replace(jt, clearance=clearance)})
 

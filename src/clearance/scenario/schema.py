@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
-from clearance.integrate.simulate import METHODS
+from clearance.integrate.methods import METHODS
 from clearance.mechanisms.params import ParamSet, SpsCuParams
 from clearance.mechanisms.ups_upu import UpsUpuParams
 from clearance.model.clearance import Clearance
@@ -129,7 +129,7 @@ MECHANISMS: Mapping[MechanismType, MechanismKind] = {
 }
 
 _ENUMS = {
-    "method": METHODS,
+    "method": tuple(METHODS),
     "linear_solver": ("auto", "schur", "dense", "lstsq"),
     "formats": ("netcdf", "csv", "mat", "npz"),
     "figure_format": ("png", "pdf", "svg"),

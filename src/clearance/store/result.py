@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from clearance.compile.compiled import Compiled
-from clearance.contact.joint import CO_DELTA, CO_E, CO_FN, CO_FT, CO_N, CO_VT
+from clearance.layout import CO_DELTA, CO_FN, EV_KIND, EV_POINT, JOINT_COLUMNS, POINT_COLUMNS
 from clearance.model.bodies import quaternion_to_rotation
 
 
@@ -32,11 +32,16 @@ class Result:
     stats: nfev, naccept, nreject, nproject, nevents (steps cut at a contact event), hmin,
     hmax, wall_time [s].
     Clearance joints (names in `clearance_names`): per-joint accessors eccentricity(),
-    penetration(), normal_force(), friction_force(), in_contact(), dissipated(); `events` is
-    the contact event log (t, joint index, +1 onset / -1 separation, delta_dot [m/s], e (3)
-    in the socket frame [m]); energy adds the contact elastic energy V_c ("contact"), the
-    normal damping dissipation D_n ("damping") and the friction work D_t ("friction"), and
-    the residual is T + V + V_c - (.)(0) - W_c - W_a - W_m - W_L + D_n + D_t (physics.md j).
+    penetration(), normal_force(), friction_force(), in_contact(), dissipated(), and any
+    channel of `clearance.layout.JOINT_COLUMNS` by `channel(name, joint)`; their contact
+    points (`contact_point_names`, each of joint `contact_point_joints[k]`) have the
+    channels of POINT_COLUMNS (`channel("point_penetration", point)`, `contact_points`
+    (n, ncp, NPOUT)), the contact state (flag, impact velocity) and the LuGre bristles
+    (n, ncp, 3). `events` is the contact event log (t, contact point index, +1 onset / -1
+    separation, delta_dot [m/s], the joint's e (3) in the outer marker frame [m]); energy
+    adds the contact elastic energy V_c ("contact"), the normal damping dissipation D_n
+    ("damping") and the friction work D_t ("friction"), and the residual is
+    T + V + V_c - (.)(0) - W_c - W_a - W_m - W_L + D_n + D_t (physics.md j).
     status 0 means success; otherwise `message` says why it stopped and the arrays hold
     everything computed up to then.
     """
@@ -61,15 +66,18 @@ class Result:
     message: str
     settings: dict
     clearance_names: tuple = ()
-    contact: np.ndarray = field(default=None, repr=False)  # (n, nclr, NCOUT) diagnostics
-    contact_state: np.ndarray = field(default=None, repr=False)  # (n, nclr, 2) flag, ddm
+    contact: np.ndarray = field(default=None, repr=False)  # (n, nclr, NCOUT) per joint
+    contact_state: np.ndarray = field(default=None, repr=False)  # (n, ncp, 2) flag, ddm
     dissipation: np.ndarray = field(default=None, repr=False)  # (n, nclr, 2) D_n, D_t [J]
-    bristle: np.ndarray = field(default=None, repr=False)  # (n, nclr, 3) LuGre z [m]
+    bristle: np.ndarray = field(default=None, repr=False)  # (n, ncp, 3) LuGre z [m]
     events: np.ndarray = field(default=None, repr=False)  # (nevents, 7) contact event log
     # (nclr, 4) largest F_N [N], its time [s], largest delta [m], its time, over the accepted
     # integration steps and the samples: impacts shorter than the output interval are
     # resolved here, not on the output grid
     contact_peaks: np.ndarray = field(default=None, repr=False)
+    contact_points: np.ndarray = field(default=None, repr=False)  # (n, ncp, NPOUT) per point
+    contact_point_names: tuple = ()
+    contact_point_joints: tuple = ()  # clearance joint of each contact point
 
     @property
     def success(self) -> bool:
@@ -133,30 +141,59 @@ class Result:
             )
         return self.clearance_names.index(name)
 
+    def channel(self, channel: str, name: str) -> np.ndarray:
+        """(n, width) or (n,) history of an output channel by its dataset name, for a
+        clearance joint (channels of layout.JOINT_COLUMNS, e.g. "penetration") or a contact
+        point (POINT_COLUMNS, e.g. "point_penetration"), with the dataset's signs."""
+        for table, data, names in (
+            (JOINT_COLUMNS, self.contact, self.clearance_names),
+            (POINT_COLUMNS, self.contact_points, self.contact_point_names),
+        ):
+            for col in table:
+                if col.name == channel:
+                    if name not in names:
+                        raise KeyError(f"no element named {name!r}; known: {list(names)}")
+                    x = data[:, names.index(name), col.cols]
+                    x = x if col.sign == 1.0 else col.sign * x
+                    return x[:, 0] if col.width == 1 else x
+        known = [c.name for c in JOINT_COLUMNS + POINT_COLUMNS]
+        raise KeyError(f"no output channel {channel!r}; channels: {known}")
+
+    def points(self, name: str) -> tuple[str, ...]:
+        """Names of the contact points of clearance joint `name`."""
+        self._c(name)
+        return tuple(
+            p
+            for p, j in zip(self.contact_point_names, self.contact_point_joints, strict=True)
+            if j == name
+        )
+
     def eccentricity(self, name: str) -> np.ndarray:
-        """(n, 3) ball centre relative to the socket centre, socket marker frame [m]."""
-        return self.contact[:, self._c(name), CO_E : CO_E + 3]
+        """(n, 3) ball / journal / slider centre relative to the socket / bearing / guide
+        centre, outer marker frame [m]."""
+        return self.channel("eccentricity", name)
 
     def penetration(self, name: str) -> np.ndarray:
-        """(n,) delta = |e| - c [m] (negative: free flight inside the clearance)."""
-        return self.contact[:, self._c(name), CO_DELTA]
+        """(n,) delta [m] (negative: free flight inside the clearance); for a joint with
+        several contact points the largest."""
+        return self.channel("penetration", name)
 
     def contact_force(self, name: str) -> np.ndarray:
-        """(n,) normal contact force magnitude F_N [N]."""
-        return self.contact[:, self._c(name), CO_FN]
+        """(n,) normal contact force magnitude F_N [N] (summed over the contact points)."""
+        return self.channel("contact_force", name)
 
     def normal_force(self, name: str) -> np.ndarray:
-        """(n, 3) normal force on the ball, -F_N n_hat, world frame [N]."""
-        k = self._c(name)
-        return -self.contact[:, k, CO_FN, None] * self.contact[:, k, CO_N : CO_N + 3]
+        """(n, 3) normal force on the ball (journal, slider), -sum F_N n, world frame [N]."""
+        return self.channel("normal_force", name)
 
     def friction_force(self, name: str) -> np.ndarray:
-        """(n, 3) friction force on the ball, -F_T_vec (opposes slip), world frame [N]."""
-        return -self.contact[:, self._c(name), CO_FT : CO_FT + 3]
+        """(n, 3) friction force on the ball (journal, slider), opposing slip, world [N]."""
+        return self.channel("friction_force", name)
 
     def slip_velocity(self, name: str) -> np.ndarray:
-        """(n, 3) tangential slip velocity v_t of the ball relative to the socket [m/s]."""
-        return self.contact[:, self._c(name), CO_VT : CO_VT + 3]
+        """(n, 3) tangential slip velocity v_t of the ball relative to the socket [m/s]
+        (the deepest contact point's)."""
+        return self.channel("slip_velocity", name)
 
     def _peak(self, name: str, col: int, src: int) -> tuple[float, float]:
         k = self._c(name)
@@ -188,10 +225,14 @@ class Result:
         return self.dissipation[:, k, 0], self.dissipation[:, k, 1]
 
     def impacts(self, name: str | None = None) -> np.ndarray:
-        """Onset rows of the event log (t, joint, +1, impact velocity, e_socket (3))."""
-        ev = self.events[self.events[:, 2] > 0] if self.events is not None else np.zeros((0, 7))
+        """Onset rows of the event log (t, contact point, +1, impact velocity, e (3)) of all
+        joints or of clearance joint `name` (each of its contact points' onsets)."""
+        ev = self.events if self.events is not None else np.zeros((0, 7))
+        ev = ev[ev[:, EV_KIND] > 0]
         if name is not None:
-            ev = ev[ev[:, 1] == self._c(name)]
+            self._c(name)
+            joint = np.array([self.contact_point_joints[int(p)] == name for p in ev[:, EV_POINT]])
+            ev = ev[joint.astype(bool)] if ev.size else ev
         return ev
 
     def summary(self) -> str:
