@@ -126,6 +126,9 @@ class NormalLaw(IntEnum):
     IMPACT = 10
     WINKLER_FORM1 = 11
     WINKLER_FORM2 = 12
+    POWER = 13  # K delta^n [1 + xi ...] with xi given (Pereira et al. 2011 encodes to it)
+    JOHNSON = 14  # line contact of a journal in a bearing (Johnson 1985)
+    LIU = 15  # line contact (Liu, Zhang & Yang 2007)
 
 
 class FrictionLaw(IntEnum):

@@ -215,13 +215,14 @@ def clearance_arrays(b, mech: Mechanism) -> tuple[dict, tuple, tuple]:
         geo, pts, (r_in, r_out), (mat_in, mat_out) = ENCODERS[cl.kind](jt.name, cl, jt.kind)
         m_eff = _effective_mass(mech, ms, mb)
         laws = {}
-        for thrust in (False, True):
+        for thrust in sorted({pt.thrust for pt in pts}):
             law = cl.normal
             if thrust and getattr(cl, "thrust_normal", None) is not None:
                 law = cl.thrust_normal
             try:
+                length = cl.length if isinstance(cl, RevoluteClearance) and not thrust else None
                 laws[thrust] = encode_normal(
-                    law, ContactGeometry(r_in, r_out, mat_in, mat_out, m_eff)
+                    law, ContactGeometry(r_in, r_out, mat_in, mat_out, m_eff, length)
                 )
             except ModelError as e:
                 raise ModelError(

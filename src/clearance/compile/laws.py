@@ -23,9 +23,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from clearance.compile.calibration import hertz_stiffness, kelvin_voigt_damping, winkler_kf
+from clearance.contact.laws import hysteresis_factor
 from clearance.kinds import NPAR, FrictionLaw, NormalLaw
 from clearance.model.contact_laws import (
     DEFAULT_DELTA_REF,
+    NORMAL_LAWS,
     STEEL,
     Coulomb,
     Flores,
@@ -36,17 +38,21 @@ from clearance.model.contact_laws import (
     HuGuo,
     HuntCrossley,
     Impact,
+    Johnson,
     KelvinVoigt,
     LankaraniNikravesh,
     LeeWang,
+    Liu,
     LuGre,
     Material,
     NoFriction,
     NonlinearStiffness,
     NormalContactLaw,
+    Pereira,
     Stribeck,
     Threlfall,
     ZhiyingQishao,
+    law_name,
 )
 from clearance.model.errors import ModelError
 
@@ -69,6 +75,7 @@ class ContactGeometry:
     inner_material: Material = STEEL
     outer_material: Material = STEEL
     m_eff: float | None = None
+    length: float | None = None  # contact length of a journal [m] (line-contact laws)
 
 
 def _pack(*values: float) -> np.ndarray:
@@ -125,6 +132,45 @@ def _winkler(law: NonlinearStiffness, g: ContactGeometry) -> np.ndarray:
     return _pack(k_f, g.R_inner, law.restitution)
 
 
+def _modulus(law, g: ContactGeometry) -> float:
+    """E* [Pa]: the law's modulus or 1/E* = sum (1 - nu^2)/E of the two materials."""
+    if law.modulus is not None:
+        return float(law.modulus)
+    a, b = g.inner_material, g.outer_material
+    return 1.0 / ((1.0 - a.nu**2) / a.E + (1.0 - b.nu**2) / b.E)
+
+
+def _line(law, g: ContactGeometry) -> tuple[float, float, float, float]:
+    """(E*, dR, L, xi) of a line-contact law in a journal geometry."""
+    who = type(law).__name__
+    if g.length is None or not math.isfinite(g.R_outer):
+        raise ModelError(
+            who,
+            "law",
+            law_name(law),
+            "a line-contact law needs a journal in a bearing of given length "
+            "(RevoluteClearance with length=...)",
+        )
+    xi = 0.0
+    if law.damping != "none":  # the factor of that g.2 law (a default instance gives its code)
+        xi = hysteresis_factor(int(normal_code(NORMAL_LAWS[law.damping]())), law.restitution)
+    return _modulus(law, g), g.R_outer - g.R_inner, float(g.length), float(xi)
+
+
+def _pereira(law: Pereira, g: ContactGeometry) -> np.ndarray:
+    """Pereira et al. (2011), internal contact, in SI: the fitted constants hold in mm, N and
+    MPa, so F = (a dR_mm + b)/dR_mm L E* delta^n 10^(3 (n - 1)) (DERIVED from the unit
+    convention that reproduces Johnson's law, docs/clearance-joints.md)."""
+    Es, dR, L, xi = _line(law, g)
+    d = 1000.0 * dR  # mm
+    if not 0.005 <= d <= 10.0:
+        raise ModelError("Pereira", "radial_clearance", dR, "the fit covers 0.005 mm <= c <= 10 mm")
+    Y = 1.51 * math.log(1000.0 * d) ** -0.151 if d < 0.34954 else 0.0151 * d + 1.151
+    n = Y * d**-0.005
+    K = (0.965 * d + 0.0965) / d * L * Es * 10.0 ** (3.0 * (n - 1.0))
+    return _pack(K, n, xi)
+
+
 # law class -> (code or code function, parameter encoder)
 _NORMAL: dict[type, tuple[Callable, Callable]] = {
     Hertz: (lambda law: NormalLaw.HERTZ, _hertz),
@@ -142,6 +188,9 @@ _NORMAL: dict[type, tuple[Callable, Callable]] = {
         lambda law: NormalLaw.WINKLER_FORM1 if law.form == 1 else NormalLaw.WINKLER_FORM2,
         _winkler,
     ),
+    Pereira: (lambda law: NormalLaw.POWER, _pereira),
+    Johnson: (lambda law: NormalLaw.JOHNSON, lambda law, g: _pack(*_line(law, g))),
+    Liu: (lambda law: NormalLaw.LIU, lambda law, g: _pack(*_line(law, g))),
 }
 
 _FRICTION: dict[type, tuple[Callable, Callable]] = {

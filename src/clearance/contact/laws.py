@@ -20,6 +20,18 @@ Normal laws, `normal_force(law, par, delta, delta_dot, delta_dot_minus, c) -> (f
                                                           [N s/m]
     11    WINKLER_FORM1         k_f [N/m^3]   R [m]       c_r      -
     12    WINKLER_FORM2         k_f [N/m^3]   R [m]       c_r      -
+    13    POWER                 K [N/m^n]     n           xi       -
+    14    JOHNSON               E* [Pa]       dR [m]      L [m]    xi
+    15    LIU                   E* [Pa]       dR [m]      L [m]    xi
+
+  Line contact of a journal (length L, radial clearance dR, E* = 1/sum (1 - nu^2)/E), laws
+  per unit length q(delta) times L, with the hysteresis factor xi of a g.2 family member
+  given in par (the apparent restitution of F_el(delta) [1 + xi delta_dot/delta_dot_minus]
+  does not depend on the elastic law: the g.2 table holds; DERIVED, docs/clearance-joints.md):
+  JOHNSON: delta = (q/(pi E*)) [ln(4 pi E* dR / q) - 1] (Johnson 1985, ESDU 78035), solved
+  explicitly: q = pi E* delta/(x - 1), x > 2 the root of e^-x (x - 1) = delta/(4 dR); valid
+  below delta = 4 dR e^-2 = 0.54 dR, continued linearly (C1) beyond half of that.
+  LIU: q = (pi/2) E* delta sqrt(delta/(2 (dR + delta))) (Liu, Zhang & Yang 2007).
 
   Dissipative family (g.2), codes 2-9: HUNT_CROSSLEY, LANKARANI_NIKRAVESH, FLORES,
   GONTHIER, HU_GUO, HERBERT_MCWHANNELL, LEE_WANG, ZHIYING_QISHAO.
@@ -82,6 +94,9 @@ _ZHIYING_QISHAO = int(NormalLaw.ZHIYING_QISHAO)
 _IMPACT = int(NormalLaw.IMPACT)
 _WINKLER_FORM1 = int(NormalLaw.WINKLER_FORM1)
 _WINKLER_FORM2 = int(NormalLaw.WINKLER_FORM2)
+_POWER = int(NormalLaw.POWER)
+_JOHNSON = int(NormalLaw.JOHNSON)
+_LIU = int(NormalLaw.LIU)
 
 _NONE = int(FrictionLaw.NONE)
 _COULOMB = int(FrictionLaw.COULOMB)
@@ -179,6 +194,72 @@ def _damped(f_el, xi, delta_dot, delta_dot_minus):
     return f if f > 0.0 else 0.0
 
 
+# Johnson: the linear continuation starts at s = delta/(4 dR) = e^-2 / 2 (delta = 0.27 dR)
+_JOHNSON_S_CAP = 0.5 * math.exp(-2.0)
+
+
+@njit(cache=True, error_model="numpy")
+def _johnson_x(s):
+    """x > 2 with e^-x (x - 1) = s, 0 < s < e^-2: Newton on ln(x - 1) - x + ln(1/s) (well
+    conditioned; from x0 = L + ln L + 1, L = ln(1/s) > 2, 3-6 steps to machine precision)."""
+    lam = -math.log(s)
+    x = lam + math.log(lam) + 1.0
+    for _ in range(12):
+        g = math.log(x - 1.0) - x + lam
+        dx = g / (1.0 / (x - 1.0) - 1.0)
+        x -= dx
+        if abs(dx) <= 1e-15 * x:
+            break
+    return x
+
+
+@njit(cache=True, error_model="numpy")
+def johnson_line(Es, dR, delta):
+    """(q [N/m], u [J/m]): Johnson's internal-cylinder line load per unit length and its
+    energy per unit length at penetration delta (explicit form, see the module docstring;
+    u = q^2 (x - 3/2)/(2 pi E*), DERIVED), continued linearly beyond s = e^-2/2."""
+    if not delta > 0.0:
+        return 0.0, 0.0
+    s = delta / (4.0 * dR)
+    if s <= _JOHNSON_S_CAP:
+        x = _johnson_x(s)
+        q = math.pi * Es * delta / (x - 1.0)
+        return q, q * q * (x - 1.5) / (2.0 * math.pi * Es)
+    dc = 4.0 * dR * _JOHNSON_S_CAP
+    x = _johnson_x(_JOHNSON_S_CAP)
+    qc = math.pi * Es * dc / (x - 1.0)
+    kc = math.pi * Es / (x - 2.0)  # dq/d delta at the cap
+    d = delta - dc
+    return qc + kc * d, qc * qc * (x - 1.5) / (2.0 * math.pi * Es) + qc * d + 0.5 * kc * d * d
+
+
+@njit(cache=True, error_model="numpy")
+def liu_line(Es, dR, delta):
+    """(q [N/m], u [J/m]): Liu, Zhang & Yang (2007) line load q = (pi/2) E* delta
+    sqrt(delta/(2 (dR + delta))) and its energy per unit length (closed form, DERIVED; a
+    series below delta/dR = 1e-3, where the closed form cancels)."""
+    if not delta > 0.0:
+        return 0.0, 0.0
+    a = math.pi * Es / (2.0 * math.sqrt(2.0))
+    q = a * delta * math.sqrt(delta / (dR + delta))
+    r = delta / dR
+    if r < 1e-3:  # a delta^2.5 dR^-0.5 (2/5 - r/7 + r^2/12 - 5 r^3/88): error ~ r^4
+        u = a * delta**2.5 / math.sqrt(dR) * (0.4 - r / 7.0 + r * r / 12.0 - 5.0 * r**3 / 88.0)
+    else:
+        sq = math.sqrt(dR + delta)
+        u = (
+            a
+            * (
+                2.0 * delta**2.5
+                - dR * delta**1.5
+                - 3.0 * dR * dR * math.sqrt(delta)
+                + 3.0 * dR * dR * sq * math.asinh(math.sqrt(r))
+            )
+            / (4.0 * sq)
+        )
+    return q, u
+
+
 @njit(cache=True, error_model="numpy")
 def normal_force(law, par, delta, delta_dot, delta_dot_minus, c):
     """(f_n, f_el) [N] of normal law `law` (NormalLaw code) with parameters par (NPAR,).
@@ -202,6 +283,18 @@ def normal_force(law, par, delta, delta_dot, delta_dot_minus, c):
         f_el = par[0] * delta ** par[1]
         f = f_el + step(delta, 0.0, 0.0, par[3], par[2]) * delta_dot
         return (f if f > 0.0 else 0.0), f_el
+    if law == _POWER:
+        # K delta^n [1 + xi delta_dot / delta_dot_minus], xi given (Pereira et al. 2011)
+        f_el = par[0] * delta ** par[1]
+        return _damped(f_el, par[2], delta_dot, delta_dot_minus), f_el
+    if law == _JOHNSON:
+        # line contact: L q(delta) [1 + xi ...] (Johnson 1985, explicit form)
+        f_el = par[2] * johnson_line(par[0], par[1], delta)[0]
+        return _damped(f_el, par[3], delta_dot, delta_dot_minus), f_el
+    if law == _LIU:
+        # line contact: L q(delta) [1 + xi ...] (Liu, Zhang & Yang 2007)
+        f_el = par[2] * liu_line(par[0], par[1], delta)[0]
+        return _damped(f_el, par[3], delta_dot, delta_dot_minus), f_el
     if law == _WINKLER_FORM1:
         # g.6 Form 1 (PROPOSED default, reconstruction): F_el(delta) [1 + xi_Flores ...]
         f_el = winkler_fel(par[0], par[1], c, delta)
@@ -256,7 +349,8 @@ def _winkler2_shape(r):
 def elastic_energy(law, par, delta, c):
     """U(delta) = int_0^delta f_el [J]: energy stored at penetration delta (physics.md j).
 
-    Power laws K delta^(n+1)/(n+1) (Hertz, dissipative family, IMPACT); K_l delta^2/2
+    Power laws K delta^(n+1)/(n+1) (Hertz, dissipative family, IMPACT, POWER); line laws
+    L u(delta) (JOHNSON, LIU; see their functions); K_l delta^2/2
     (Kelvin-Voigt); Winkler Form 1 pi R^2 k_f delta^3 / (3 (c + delta)) (DERIVED: with
     x = c + delta, F_el = (pi R^2 k_f/3)(2x - 3c + c^3/x^2), integrated from c to c + delta);
     Form 2 see `_winkler2_shape`. 0 for delta <= 0.
@@ -270,6 +364,10 @@ def elastic_energy(law, par, delta, c):
     if law == _WINKLER_FORM2:
         a = math.pi * par[1] * par[1] * par[0] / 3.0
         return 2.0 * a * delta**2.5 * _winkler2_shape(c / delta)
+    if law == _JOHNSON:
+        return par[2] * johnson_line(par[0], par[1], delta)[1]
+    if law == _LIU:
+        return par[2] * liu_line(par[0], par[1], delta)[1]
     n = par[1]
     return par[0] * delta ** (n + 1.0) / (n + 1.0)
 

@@ -52,6 +52,7 @@ from clearance.model.contact_laws import (
     NoFriction,
     NonlinearStiffness,
     NormalContactLaw,
+    _LineLaw,
 )
 from clearance.model.errors import ModelError
 
@@ -150,6 +151,17 @@ def _common(obj: object, who: str, materials: tuple[str, str]) -> None:
     _set(obj, "onset_tolerance", tol)
 
 
+def _no_line_law(obj: object, who: str, where: str) -> None:
+    if isinstance(obj.normal, _LineLaw):  # type: ignore[attr-defined]
+        raise ModelError(
+            who,
+            "normal",
+            obj.normal,  # type: ignore[attr-defined]
+            f"{type(obj.normal).__name__} is a line-contact law of a journal in its bearing; "  # type: ignore[attr-defined]
+            f"use a point-contact law for {where}",
+        )
+
+
 def _model(obj: object, who: str) -> None:
     if obj.model not in MODELS:  # type: ignore[attr-defined]
         raise ModelError(who, "model", obj.model, f"allowed: {', '.join(MODELS)}")  # type: ignore[attr-defined]
@@ -190,6 +202,7 @@ class Clearance:
         _radii(self, who, "ball_radius", "socket_radius")
         _side(who, "socket", self.socket)
         _laws(self, who)
+        _no_line_law(self, who, "a ball in a socket")
         _common(self, who, ("ball_material", "socket_material"))
 
     @property
@@ -265,6 +278,22 @@ class RevoluteClearance:
                     getattr(self, law_field),
                     "NonlinearStiffness is the conformal ball-in-socket law; use a point or "
                     "line contact law for a journal",
+                )
+        if self.length is None and isinstance(self.normal, _LineLaw):
+            raise ModelError(
+                who, "length", None, f"the line-contact law {type(self.normal).__name__} needs it"
+            )
+        if isinstance(self.thrust_normal, _LineLaw):
+            raise ModelError(
+                who, "thrust_normal", self.thrust_normal, "a thrust face is not a line contact"
+            )
+        if self.axial_clearance is not None and self.thrust_normal is None:
+            if isinstance(self.normal, _LineLaw):
+                raise ModelError(
+                    who,
+                    "thrust_normal",
+                    None,
+                    "give the thrust faces a point-contact law (the radial law is a line law)",
                 )
         if self.model == "spatial":
             if self.length is None:
@@ -351,6 +380,7 @@ class PrismaticClearance:
             _set(self, "corner_radius", _pos(who, "corner_radius", self.corner_radius))
         _side(who, "guide", self.guide)
         _laws(self, who)
+        _no_line_law(self, who, "slider corners")
         if isinstance(self.normal, NonlinearStiffness):
             raise ModelError(
                 who, "normal", self.normal, "NonlinearStiffness is the ball-in-socket law"

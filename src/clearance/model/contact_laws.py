@@ -288,6 +288,63 @@ class NonlinearStiffness(NormalContactLaw):
                 _set(self, name, _positive(who, name, getattr(self, name)))
 
 
+#: the g.2 family members whose hysteresis factor xi(c_r) a line-contact law may use
+DAMPING_FACTORS = (
+    "none",
+    "hunt_crossley",
+    "lankarani_nikravesh",
+    "flores",
+    "gonthier",
+    "hu_guo",
+    "herbert_mcwhannell",
+    "lee_wang",
+    "zhiying_qishao",
+)
+
+
+@dataclass(frozen=True)
+class _LineLaw(NormalContactLaw):
+    """A line-contact law of a journal in its bearing: the elastic line load per unit length
+    q(delta) of the radial clearance dR and the combined modulus E*, times the bearing length
+    L, with the hysteresis damping [1 + xi delta_dot / delta_dot_minus] of the g.2 family
+    member named by `damping` ("none": elastic). modulus: E* [Pa] (None: from the journal
+    and bearing materials, 1/E* = sum (1 - nu^2)/E). Only in a RevoluteClearance with a
+    length (docs/clearance-joints.md)."""
+
+    restitution: float = 0.9
+    damping: str = "lankarani_nikravesh"
+    modulus: float | None = None
+
+    def __post_init__(self) -> None:
+        who = type(self).__name__
+        _set(self, "restitution", _restitution(who, self.restitution))
+        if self.damping not in DAMPING_FACTORS:
+            raise ModelError(who, "damping", self.damping, f"allowed: {', '.join(DAMPING_FACTORS)}")
+        if self.modulus is not None:
+            _set(self, "modulus", _positive(who, "modulus", self.modulus))
+
+
+@dataclass(frozen=True)
+class Johnson(_LineLaw):
+    """Johnson's internal-cylinder law (Johnson 1985, "Contact Mechanics", ESDU 78035):
+    delta = (q/(pi E*)) [ln(4 pi E* dR / q) - 1], solved exactly for q (SOURCED form as used
+    by Pereira et al. 2011; explicit solution DERIVED). Valid for delta < 0.54 dR."""
+
+
+@dataclass(frozen=True)
+class Pereira(_LineLaw):
+    """Pereira, Ramalho & Ambrosio (2011), internal contact: F = (a dR + b)/dR L E*
+    delta^n with a = 0.965, b = 0.0965, n = Y dR^-0.005 and Y piecewise in dR, the fitted
+    constants in mm, N and MPa (converted to SI exactly; SOURCED constants, unit convention
+    DERIVED: docs/clearance-joints.md). Valid for 0.005 mm <= dR <= 10 mm."""
+
+
+@dataclass(frozen=True)
+class Liu(_LineLaw):
+    """Liu, Zhang & Yang (2007): q = (pi/2) E* delta sqrt(delta / (2 (dR + delta)))
+    (SOURCED as implemented in the DyS code; E* the combined modulus)."""
+
+
 # --------------------------------------------------------------------------- friction laws
 
 
@@ -424,6 +481,9 @@ NORMAL_LAWS: dict[str, type[NormalContactLaw]] = {
     "zhiying_qishao": ZhiyingQishao,
     "impact": Impact,
     "nonlinear_stiffness": NonlinearStiffness,
+    "johnson": Johnson,
+    "pereira": Pereira,
+    "liu": Liu,
 }
 
 FRICTION_LAWS: dict[str, type[FrictionContactLaw]] = {
