@@ -41,6 +41,7 @@ from clearance.scenario import (
 )
 from clearance.scenario.schema import (
     CLEARANCE_FIELDS,
+    CLEARANCE_KINDS,
     JOINT_FIELDS,
     OUTPUT_FIELDS,
     SCENARIO_FIELDS,
@@ -536,6 +537,8 @@ def test_docs_document_every_field() -> None:
         *UpsUpuParams.spec(),
         *SpsCuParams.spec(),
     ]
+    for spec in CLEARANCE_KINDS.values():
+        names += [*spec.fields, *spec.tables]
     for cls in (*NORMAL_LAWS.values(), *FRICTION_LAWS.values()):
         names += [f.name for f in dataclasses.fields(cls) if f.init]
     names += [f'"{n}"' for n in (*NORMAL_LAWS, *FRICTION_LAWS)]
@@ -564,3 +567,92 @@ def test_joint_spec_is_a_deprecated_clearance() -> None:
     with pytest.warns(DeprecationWarning):
         j = JointSpec(ball_radius=0.015, radial_clearance=0.3e-3)
     assert j.clearance() == cl.Clearance(ball_radius=0.015, radial_clearance=0.3e-3)
+
+
+# --------------------------------------------------------------------------- clearance kinds
+
+KINDS_TEXT = (
+    MINIMAL
+    + """
+[clearance.joints.P_2]
+kind = "prismatic"
+width = 0.03
+length = 0.06
+clearance = 1e-4
+model = "planar"
+normal = { law = "lankarani_nikravesh", stiffness = 1e10, restitution = 0.8 }
+friction = { law = "coulomb", mu = 0.05 }
+"""
+)
+
+
+def test_clearance_on_a_prismatic_joint_by_name() -> None:
+    """Any clearance-capable joint of a shipped mechanism takes a clearance of its kind; the
+    file round-trips and builds; `kind` may be written and must match the joint."""
+    s = loads_scenario(KINDS_TEXT)
+    p2 = s.clearance.joints["P_2"]
+    assert isinstance(p2, cl.PrismaticClearance) and p2.width == 0.03 and p2.model == "planar"
+    assert scenario_from_dict(scenario_to_dict(s)) == s
+    assert scenario_to_dict(s)["clearance"]["joints"]["P_2"]["kind"] == "prismatic"
+    _, clr, _ = build_mechanisms(s)
+    assert clr.joints["P_2"].clearance == p2
+    c = cl.compile_mechanism(clr)
+    assert [ci.kind for ci in c.clearances] == ["spherical", "prismatic"]  # mech.joints order
+    assert c.nrow == 66 - 3 - 5 + 3  # S_1 keeps none of its 3 rows, P_2 keeps 3 of its 5
+    r = cl.simulate(c, 0.005, dt_out=1e-3)
+    assert r.success, r.message
+
+
+@pytest.mark.parametrize(
+    ("text", "field", "allowed"),
+    [
+        (
+            '[clearance.joints.P_2]\nkind = "revolute"\nwidth = 0.03',
+            "kind",
+            "its clearance kind is 'prismatic'",
+        ),
+        ("[clearance.joints.U_1]\nwidth = 0.03", "clearance.joints.U_1", "can have clearance: S_1"),
+        ("[clearance.joints.P_2]\nwidth = 0.03\nlength = 0.06", "clearance", "required"),
+        ("[clearance.joints.P_2]\nwidht = 0.03", "widht", "did you mean 'width'"),
+    ],
+)
+def test_clearance_kind_errors_name_the_field(text, field, allowed) -> None:
+    with pytest.raises(ScenarioError) as err:
+        loads_scenario(MINIMAL + "\n" + text + "\n")
+    assert any(field in p.field and allowed in p.allowed for p in err.value.problems), err.value
+
+
+def test_sps_cu_cylindrical_and_two_body_prismatic_clearance() -> None:
+    text = default_scenario_path("sps_cu").read_text()
+    extra = """
+[clearance.joints.C]
+journal_radius = 0.02
+radial_clearance = 1e-4
+model = "spatial"
+length = 0.05
+normal = { law = "johnson", restitution = 0.9 }
+"""
+    s = loads_scenario(text + extra)
+    assert isinstance(s.clearance.joints["C"], cl.RevoluteClearance)
+    assert scenario_to_dict(s)["clearance"]["joints"]["C"]["kind"] == "cylindrical"
+    assert scenario_from_dict(scenario_to_dict(s)) == s
+    with pytest.raises(ScenarioError, match="limb_model = 'two-body'"):
+        loads_scenario(
+            text + "\n[clearance.joints.P_1]\nwidth = 0.02\nlength = 0.05\nclearance = 1e-4\n"
+        )
+
+
+def test_paths_know_the_fields_of_each_kind() -> None:
+    d = scenario_to_dict(loads_scenario(KINDS_TEXT))
+    d2 = set_path(d, "clearance.joints.P_2.clearance", 2e-4)
+    assert get_path(d2, "clearance.joints.P_2.clearance") == 2e-4
+    assert with_overrides(loads_scenario(KINDS_TEXT), {"clearance.joints.P_2.width": 0.04})
+    with pytest.raises(ScenarioError, match="allowed: kind, width, length"):
+        set_path(d, "clearance.joints.P_2.ball_radius", 0.01)
+
+
+def test_registry_lists_every_clearance_capable_joint_with_its_kind() -> None:
+    mech = ups_upu_ideal()
+    kinds = {cl.Spherical: "spherical", cl.Prismatic: "prismatic", cl.Revolute: "revolute"}
+    expected = {n: kinds[type(j)] for n, j in mech.joints.items() if type(j) in kinds}
+    assert dict(MECHANISMS[MechanismType.UPS_UPU].clearance_joints) == expected

@@ -11,7 +11,8 @@ names are taken from the document), whether or not the document writes the key o
     d2 = set_path(d, "clearance.joints.S_1.radial_clearance", 2e-4)   # a new dict
     s2 = with_overrides(s, {"solver.rtol": 1e-8, "mechanism.R_A": 0.45})  # validated
 
-Setting one of radial_clearance / socket_radius removes the other from that joint.
+Setting one of a joint's exclusive radius fields (radial_clearance / socket_radius, or
+radial_clearance / bearing_radius) removes the other from that joint.
 """
 
 from __future__ import annotations
@@ -21,12 +22,11 @@ import dataclasses
 import re
 from collections.abc import Mapping
 
-from clearance.model.contact_laws import FRICTION_LAWS, NORMAL_LAWS
+from clearance.model.contact_laws import law_name
 from clearance.scenario.errors import MISSING, ScenarioError, did_you_mean
 from clearance.scenario.schema import (
     CLEARANCE_FIELDS,
-    JOINT_FIELDS,
-    JOINT_TABLES,
+    CLEARANCE_KINDS,
     MATERIAL_FIELDS,
     MECHANISMS,
     OUTPUT_FIELDS,
@@ -43,8 +43,6 @@ from clearance.scenario.serialize import scenario_to_dict
 __all__ = ["allowed_keys", "get_path", "set_path", "split_path", "with_overrides"]
 
 _SEGMENT = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
-_LAW_DEFAULT = {"normal": "flores", "friction": "none"}
-_EXCLUSIVE = {"radial_clearance": "socket_radius", "socket_radius": "radial_clearance"}
 
 
 def split_path(path: str, *, source: str = "<path>") -> list[str | int]:
@@ -93,15 +91,19 @@ def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
     if head != "clearance" or keys[1] != "joints":
         return None
     if n == 2:
-        return tuple(kind.spherical_joints) if kind else ()
+        return tuple(kind.clearance_joints) if kind else ()
+    spec = CLEARANCE_KINDS.get(kind.clearance_joints.get(keys[2], "")) if kind else None
+    if spec is None:
+        return None
     if n == 3:
-        return (*JOINT_FIELDS, *JOINT_TABLES)
-    if n == 4 and keys[3] in ("ball_material", "socket_material"):
+        return ("kind", *spec.fields, *spec.tables)
+    if n == 4 and keys[3] in spec.materials:
         return MATERIAL_FIELDS
-    if n == 4 and keys[3] in _LAW_DEFAULT:
-        registry = NORMAL_LAWS if keys[3] == "normal" else FRICTION_LAWS
+    if n == 4 and keys[3] in spec.laws:
+        registry, default = spec.laws[keys[3]]
         law = _get(_get(_get(_get(_get(d, "clearance"), "joints"), keys[2]), keys[3]), "law")
-        cls = registry.get(law if isinstance(law, str) else _LAW_DEFAULT[keys[3]])
+        name = law if isinstance(law, str) else law_name(default) if default else None
+        cls = registry.get(name) if name else None
         return ("law", *(f.name for f in dataclasses.fields(cls) if f.init)) if cls else ("law",)
     return None
 
@@ -127,6 +129,17 @@ def _check(
                 )
             raise ScenarioError(source, path, p if value is MISSING else value, msg)
         keys.append(p)
+
+
+def _radii(d: Mapping, parts: list) -> tuple[str, ...]:
+    """The exclusive radius pair of the joint at clearance.joints.<J>.<field>, or ()."""
+    if len(parts) != 4 or parts[:2] != ["clearance", "joints"]:
+        return ()
+    mtype = _get(_get(d, "mechanism"), "type")
+    if mtype not in [m.value for m in MechanismType]:
+        return ()
+    spec = CLEARANCE_KINDS.get(MECHANISMS[MechanismType(mtype)].clearance_joints.get(parts[2], ""))
+    return spec.radii if spec is not None and spec.radii is not None else ()
 
 
 def get_path(d: Mapping, path: str, *, source: str = "<dict>") -> object:
@@ -169,8 +182,9 @@ def set_path(d: Mapping, path: str, value: object, *, source: str = "<dict>") ->
         assert isinstance(node, dict)
         if last:
             node[p] = value
-            if p in _EXCLUSIVE and len(parts) == 4:  # clearance.joints.<J>.<radius field>
-                node.pop(_EXCLUSIVE[p], None)
+            radii = _radii(out, parts)
+            if p in radii:  # clearance.joints.<J>.<one of its radius fields>: drop the other
+                node.pop(radii[1 - radii.index(p)], None)
         else:
             if p not in node:
                 if isinstance(nxt, int):

@@ -27,12 +27,13 @@ from typing import Any
 from clearance.integrate.methods import METHODS
 from clearance.mechanisms.params import ParamSet, SpsCuParams
 from clearance.mechanisms.ups_upu import UpsUpuParams
-from clearance.model.clearance import Clearance
+from clearance.model.clearance import Clearance, PrismaticClearance, RevoluteClearance
 from clearance.model.contact_laws import (
     FRICTION_LAWS,
     NORMAL_LAWS,
     STEEL,
     Flores,
+    LankaraniNikravesh,
     Material,
     NoFriction,
 )
@@ -43,6 +44,8 @@ from clearance.scenario.fields import REQUIRED, Field, parse_table, table_at
 __all__ = [
     "FORMAT_VERSION",
     "MECHANISMS",
+    "CLEARANCE_KINDS",
+    "ClearanceKindSpec",
     "ClearanceSpec",
     "InitialPlacement",
     "JointSpec",
@@ -84,8 +87,11 @@ class InitialPlacement(str, Enum):
 class MechanismKind:
     """What a mechanism type offers to a scenario file.
 
-    params: its parameter set class; spherical_joints: joint names that may get clearance,
-    with the body of marker i (the default socket side); positions / angles: trajectory
+    params: its parameter set class; spherical_joints: its spherical joints, with the body
+    of marker i (the default socket side); clearance_joints: every joint that may get
+    clearance, with its clearance kind ("spherical", "revolute", "cylindrical",
+    "prismatic"; `CLEARANCE_KINDS`); two_body_joints: those that exist only with two-body
+    limbs (4-SPS/CU `limb_model`); positions / angles: trajectory
     amplitude coordinates [m] / [rad]; sequence, mode: the platform-pose description of
     `clearance.analysis.ik` (angles map onto the sequence, missing ones are 0).
     """
@@ -97,6 +103,8 @@ class MechanismKind:
     sequence: str
     mode: str
     description: str
+    clearance_joints: Mapping[str, str] = field(default_factory=dict)
+    two_body_joints: tuple[str, ...] = ()
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -112,8 +120,13 @@ MECHANISMS: Mapping[MechanismType, MechanismKind] = {
         sequence="xyz",
         mode="axis",
         description="4UPS-UPU parallel mechanism (mechanisms.md 1)",
+        clearance_joints={
+            **{f"S_{k}": "spherical" for k in range(1, 5)},
+            **{f"P_{k}": "prismatic" for k in range(1, 6)},
+        },
     ),
-    # Joint names of the future 4-SPS/CU factory: SA_k base side, SB_k platform side.
+    # 4-SPS/CU: SA_k base side, SB_k platform side; C the central leg's cylindrical joint;
+    # P_k the limbs' prismatic joints (two-body limbs only)
     MechanismType.SPS_CU: MechanismKind(
         params=SpsCuParams,
         spherical_joints={
@@ -125,6 +138,13 @@ MECHANISMS: Mapping[MechanismType, MechanismKind] = {
         sequence="zxy",
         mode="full",
         description="4-SPS/CU parallel mechanism (mechanisms.md 2)",
+        clearance_joints={
+            **{f"SA_{k}": "spherical" for k in range(1, 5)},
+            **{f"SB_{k}": "spherical" for k in range(1, 5)},
+            "C": "cylindrical",
+            **{f"P_{k}": "prismatic" for k in range(1, 5)},
+        },
+        two_body_joints=tuple(f"P_{k}" for k in range(1, 5)),
     ),
 }
 
@@ -164,6 +184,108 @@ JOINT_FIELDS = {
 }
 JOINT_TABLES = ("normal", "friction", "ball_material", "socket_material")
 MATERIAL_FIELDS = ("E", "nu")
+_COMMON = {
+    "velocity_floor": JOINT_FIELDS["velocity_floor"],
+    "onset_tolerance": Field("positive", 1e-3, doc="onset penetration / clearance (< 0.5)"),
+}
+_MODEL = Field("choice", "planar", doc="planar or spatial model", choices=("planar", "spatial"))
+REVOLUTE_FIELDS = {
+    "journal_radius": Field("positive", REQUIRED, "m", "journal radius R_J"),
+    "radial_clearance": Field("positive", None, "m", "c = R_B - R_J (or bearing_radius)"),
+    "bearing_radius": Field("positive", None, "m", "R_B (or radial_clearance)"),
+    "model": _MODEL,
+    "length": Field("positive", None, "m", "bearing (contact) length; spatial model"),
+    "stations": Field("count", 5, doc="bearing cross-sections of the spatial model (>= 2)"),
+    "axial_clearance": Field("positive", None, "m", "gap at each thrust face; spatial"),
+    "thrust_radius": Field("positive", None, "m", "radius of the thrust points"),
+    "thrust_points": Field("count", 4, doc="thrust points per face (>= 3)"),
+    "bearing": Field("choice", "i", doc="marker whose body holds the bearing", choices=("i", "j")),
+    **_COMMON,
+}
+CYLINDRICAL_FIELDS = {
+    k: v
+    for k, v in REVOLUTE_FIELDS.items()
+    if k not in ("axial_clearance", "thrust_radius", "thrust_points")
+}
+PRISMATIC_FIELDS = {
+    "width": Field("positive", REQUIRED, "m", "slider width (guide marker's f axis)"),
+    "length": Field("positive", REQUIRED, "m", "slider length (sliding axis h)"),
+    "clearance": Field("positive", REQUIRED, "m", "gap per side, width direction"),
+    "height": Field("positive", None, "m", "slider height (g axis); spatial model"),
+    "clearance_height": Field("positive", None, "m", "gap per side, height direction"),
+    "model": _MODEL,
+    "corner_radius": Field("positive", None, "m", "rounded corners: Hertz stiffness"),
+    "guide": Field("choice", "i", doc="marker whose body holds the guide", choices=("i", "j")),
+    **_COMMON,
+}
+
+
+@dataclass(frozen=True)
+class ClearanceKindSpec:
+    """A clearance kind in files: its class, fields, law tables (with their defaults),
+    material tables and the pair of exclusive radius fields (if any)."""
+
+    cls: type
+    fields: Mapping[str, Field]
+    laws: Mapping[str, tuple[Mapping[str, type], object]]
+    materials: tuple[str, ...]
+    radii: tuple[str, str] | None
+
+    @property
+    def tables(self) -> tuple[str, ...]:
+        return (*self.laws, *self.materials)
+
+
+_JOURNAL_LAWS = {
+    "normal": (NORMAL_LAWS, LankaraniNikravesh()),
+    "friction": (FRICTION_LAWS, NoFriction()),
+}
+CLEARANCE_KINDS: Mapping[str, ClearanceKindSpec] = {
+    "spherical": ClearanceKindSpec(
+        Clearance,
+        JOINT_FIELDS,
+        {"normal": (NORMAL_LAWS, Flores()), "friction": (FRICTION_LAWS, NoFriction())},
+        ("ball_material", "socket_material"),
+        ("radial_clearance", "socket_radius"),
+    ),
+    "revolute": ClearanceKindSpec(
+        RevoluteClearance,
+        REVOLUTE_FIELDS,
+        {**_JOURNAL_LAWS, "thrust_normal": (NORMAL_LAWS, None)},
+        ("journal_material", "bearing_material"),
+        ("radial_clearance", "bearing_radius"),
+    ),
+    "cylindrical": ClearanceKindSpec(
+        RevoluteClearance,
+        CYLINDRICAL_FIELDS,
+        _JOURNAL_LAWS,
+        ("journal_material", "bearing_material"),
+        ("radial_clearance", "bearing_radius"),
+    ),
+    "prismatic": ClearanceKindSpec(
+        PrismaticClearance,
+        PRISMATIC_FIELDS,
+        {
+            "normal": (NORMAL_LAWS, LankaraniNikravesh()),
+            "friction": (FRICTION_LAWS, NoFriction()),
+        },
+        ("slider_material", "guide_material"),
+        None,
+    ),
+}
+
+
+def clearance_kind_name(clr: object, joint_kind: str | None = None) -> str:
+    """The file name of a clearance's kind ("cylindrical" for a RevoluteClearance of a
+    cylindrical joint, given as joint_kind)."""
+    if isinstance(clr, RevoluteClearance) and joint_kind == "cylindrical":
+        return "cylindrical"
+    for name, spec in CLEARANCE_KINDS.items():
+        if type(clr) is spec.cls:
+            return name
+    raise TypeError(f"not a clearance: {clr!r}")
+
+
 SOLVER_FIELDS = {
     "method": Field("choice", "dopri5", doc="integrator", choices=_ENUMS["method"]),
     "rtol": Field("positive", 1e-6, doc="relative tolerance (dopri5, tsit5)"),
@@ -248,7 +370,7 @@ class JointSpec(Clearance):
 @dataclass(frozen=True)
 class ClearanceSpec:
     initial: InitialPlacement = InitialPlacement.CENTRED
-    joints: dict = field(default_factory=dict)  # joint name -> Clearance
+    joints: dict = field(default_factory=dict)  # joint name -> its clearance (model object)
 
 
 @dataclass(frozen=True)
@@ -404,52 +526,68 @@ def _material(value: object, path: str, problems: Problems) -> Material | None:
     return _construct(Material, {k: t[k] for k in MATERIAL_FIELDS}, path, problems)
 
 
-def _joint(value: object, path: str, problems: Problems) -> Clearance | None:
+def _joint(value: object, path: str, kind_name: str, problems: Problems) -> object | None:
+    """The clearance of one joint of kind `kind_name` from its file table."""
     t = table_at(value, path, problems)
     if t is None:
         return None
+    spec = CLEARANCE_KINDS[kind_name]
     n0 = len(problems)
-    kw = parse_table(t, JOINT_FIELDS, path, problems, extra=JOINT_TABLES)
-    laws = {"normal": (NORMAL_LAWS, Flores()), "friction": (FRICTION_LAWS, NoFriction())}
-    for key, (registry, default) in laws.items():
+    given_kind = t.get("kind", kind_name)
+    if given_kind != kind_name:
+        problems.add(
+            f"{path}.kind",
+            given_kind,
+            f"this joint is {kind_name}: its clearance kind is '{kind_name}'",
+        )
+    body = {k: v for k, v in t.items() if k != "kind"}
+    kw = parse_table(body, spec.fields, path, problems, extra=spec.tables)
+    for key, (registry, default) in spec.laws.items():
         kw[key] = _law(t[key], registry, f"{path}.{key}", problems) if key in t else default
-    for key in ("ball_material", "socket_material"):
+    for key in spec.materials:
         kw[key] = _material(t[key], f"{path}.{key}", problems) if key in t else STEEL
-    given = [k for k in ("radial_clearance", "socket_radius") if kw.get(k) is not None]
-    if not given and not any(k in t for k in ("radial_clearance", "socket_radius")):
-        problems.add(
-            f"{path}.radial_clearance", MISSING, "required: give radial_clearance or socket_radius"
-        )
-    elif len(given) == 2:
-        problems.add(
-            f"{path}.socket_radius",
-            kw["socket_radius"],
-            f"give only one of radial_clearance (= {kw['radial_clearance']}) and socket_radius",
-        )
+    if spec.radii is not None:
+        first, second = spec.radii
+        given = [k for k in spec.radii if kw.get(k) is not None]
+        if not given and not any(k in t for k in spec.radii):
+            problems.add(f"{path}.{first}", MISSING, f"required: give {first} or {second}")
+        elif len(given) == 2:
+            problems.add(
+                f"{path}.{second}",
+                kw[second],
+                f"give only one of {first} (= {kw[first]}) and {second}",
+            )
     if len(problems) > n0:
         return None
-    return _construct(Clearance, kw, path, problems)  # with the cross checks (radii, tolerance)
+    return _construct(spec.cls, kw, path, problems)  # with the cross checks of the class
 
 
-def _clearance(t: dict, kind: MechanismKind | None, problems: Problems) -> ClearanceSpec | None:
+def _clearance(
+    t: dict, kind: MechanismKind | None, params: ParamSet | None, problems: Problems
+) -> ClearanceSpec | None:
     n0 = len(problems)
     kw = parse_table(t, CLEARANCE_FIELDS, "clearance", problems, extra=("joints",))
-    joints: dict[str, Clearance] = {}
+    joints: dict[str, object] = {}
     jt = table_at(t.get("joints", {}), "clearance.joints", problems)
     for name, value in (jt or {}).items():
         path = f"clearance.joints.{name}"
-        if kind is not None and name not in kind.spherical_joints:
-            allowed = list(kind.spherical_joints)
+        if kind is None:
+            continue
+        if name not in kind.clearance_joints:
+            allowed = list(kind.clearance_joints)
             problems.add(
                 path,
                 name,
-                f"unknown joint '{name}';{did_you_mean(name, allowed)} spherical joints of "
-                f"this mechanism: {', '.join(allowed)}",
+                f"unknown joint '{name}';{did_you_mean(name, allowed)} joints of this "
+                f"mechanism that can have clearance: {', '.join(allowed)}",
             )
             continue
-        spec = _joint(value, path, problems)
-        if spec is not None:
-            joints[name] = spec
+        if name in kind.two_body_joints and getattr(params, "limb_model", None) != "two-body":
+            problems.add(path, name, "this joint exists with mechanism.limb_model = 'two-body'")
+            continue
+        clr = _joint(value, path, kind.clearance_joints[name], problems)
+        if clr is not None:
+            joints[name] = clr
     if len(problems) > n0:
         return None
     return ClearanceSpec(InitialPlacement(kw["initial"]), joints)
@@ -547,7 +685,7 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
     if (t := _section(d, "trajectory", problems)) is not None:
         traj = _trajectory(t, kind, problems)
     if (t := _section(d, "clearance", problems)) is not None:
-        clr = _clearance(t, kind, problems)
+        clr = _clearance(t, kind, mech.params if mech is not None else None, problems)
     if (t := _section(d, "solver", problems)) is not None:
         n0, kw = len(problems), parse_table(t, SOLVER_FIELDS, "solver", problems)
         solver = SolverSpec(**kw) if len(problems) == n0 else None

@@ -8,9 +8,8 @@ from __future__ import annotations
 import dataclasses
 from enum import Enum
 
-from clearance.model.clearance import Clearance
 from clearance.model.contact_laws import FrictionContactLaw, NormalContactLaw, law_to_dict
-from clearance.scenario.schema import AUTO, Scenario
+from clearance.scenario.schema import AUTO, CLEARANCE_KINDS, Scenario
 
 __all__ = ["law_dict", "scenario_to_dict"]
 
@@ -37,14 +36,24 @@ def law_dict(law: NormalContactLaw | FrictionContactLaw) -> dict[str, object]:
     return out
 
 
-def _joint_dict(j: Clearance) -> dict[str, object]:
-    out: dict[str, object] = {"ball_radius": j.ball_radius, j.given: getattr(j, j.given)}
-    out.update(socket=j.socket, velocity_floor=j.velocity_floor, onset_tolerance=j.onset_tolerance)
-    out["normal"] = law_dict(j.normal)
-    out["friction"] = law_dict(j.friction)
-    for key in ("ball_material", "socket_material"):
-        m = getattr(j, key)
-        out[key] = {"E": m.E, "nu": m.nu}
+def _joint_dict(j: object, kind: str) -> dict[str, object]:
+    """The file table of a joint's clearance of kind `kind` (schema.CLEARANCE_KINDS): its
+    fields in the spec's order (of a radius pair only the one given; None values left out),
+    law tables and material tables."""
+    spec = CLEARANCE_KINDS[kind]
+    out: dict[str, object] = {"kind": kind}
+    for name in spec.fields:
+        if spec.radii is not None and name in spec.radii and name != j.given:  # type: ignore[attr-defined]
+            continue
+        v = getattr(j, name)
+        if v is not None:
+            out[name] = _plain(v)
+    for name in spec.laws:
+        if getattr(j, name) is not None:
+            out[name] = law_dict(getattr(j, name))
+    for name in spec.materials:
+        m = getattr(j, name)
+        out[name] = {"E": m.E, "nu": m.nu}
     return out
 
 
@@ -66,7 +75,10 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
         },
         "clearance": {
             "initial": s.clearance.initial.value,
-            "joints": {n: _joint_dict(j) for n, j in s.clearance.joints.items()},
+            "joints": {
+                n: _joint_dict(j, s.mechanism.kind.clearance_joints[n])
+                for n, j in s.clearance.joints.items()
+            },
         },
         "solver": fields_of(s.solver),
         "output": fields_of(s.output),

@@ -378,7 +378,7 @@ def study_from_dict(
     # metrics and the joint template
     mech_type = base.get("mechanism", {}).get("type") if base else None
     joints = (
-        tuple(MECHANISMS[MechanismType(mech_type)].spherical_joints)
+        tuple(MECHANISMS[MechanismType(mech_type)].clearance_joints)
         if mech_type in [m.value for m in MechanismType]
         else ()
     )
