@@ -127,3 +127,61 @@ def test_save_figure_is_atomic(tmp_path, monkeypatch):
         save_figure(fig, tmp_path, "f", ("png",))
     assert old.read_bytes() == before
     assert os.listdir(tmp_path) == ["f.png"]
+
+
+def test_journal_and_slider_figures(tmp_path):
+    """Revolute and prismatic clearance joints get their own figures from the saved file:
+    the journal centre inside the clearance circle of its bearing, the slider offset within
+    the clearance band of its guide (plot_all picks them by the joint's kind)."""
+    from clearance.plot import plot_journal_trajectory, plot_slider_offset
+
+    law = clearance.LankaraniNikravesh(stiffness=1e10, restitution=0.7)
+    T = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])  # h = x, f = y, g = z
+    m = clearance.Mechanism("two joints", gravity=(0.0, -9.81, 0.0))
+    m.add(
+        clearance.Body(
+            "rod",
+            0.6,
+            (0.008, 0.0005, 0.008),
+            position=(0, -0.2, 0),
+            velocity=(0.6, 0, 0),
+            angular_velocity=(0, 0, 3.0),
+        ),
+        clearance.Body(
+            "slider", 0.4, (2e-4, 3e-4, 3e-4), position=(0, -0.5, 0), velocity=(0.5, 0, 0)
+        ),
+        clearance.Marker("pivot_g", "ground"),
+        clearance.Marker("pivot_r", "rod", (0, 0.2, 0)),
+        clearance.Marker("guide", "ground", (0, -0.5, 0), T),
+        clearance.Marker("slide", "slider", (0, 0, 0), T),
+        clearance.Revolute(
+            "R",
+            "pivot_g",
+            "pivot_r",
+            clearance=clearance.RevoluteClearance(
+                0.01, radial_clearance=2e-4, model="spatial", length=0.02, normal=law
+            ),
+        ),
+        clearance.Prismatic(
+            "P",
+            "guide",
+            "slide",
+            clearance=clearance.PrismaticClearance(
+                width=0.02, length=0.04, clearance=2e-4, normal=law
+            ),
+        ),
+    )
+    r = clearance.simulate(m, 0.05, dt_out=2e-4)
+    assert r.success, r.message
+    path = tmp_path / "kinds.nc"
+    save_results(path, {"clearance": r})
+    ds = dict(load_results(path))
+    assert list(ds["clearance"]["clearance_kind"].values) == ["revolute", "prismatic"]
+    fig = plot_journal_trajectory(ds, "R")
+    circle = [p for p in fig.axes[0].patches][0]
+    assert circle.get_radius() == pytest.approx(0.2)  # c in mm
+    fig2 = plot_slider_offset(ds, "P")
+    assert len(fig2.axes) == 1  # planar: the width direction only
+    for f, stem in ((fig, "j"), (fig2, "s")):
+        (p,) = save_figure(f, tmp_path, stem, ("png",))
+        assert p.stat().st_size > 5000

@@ -6,7 +6,9 @@ from clearance.plot.figures import (
     plot_all,
     plot_ball_trajectory,
     plot_contact_force,
+    plot_journal_trajectory,
     plot_platform,
+    plot_slider_offset,
     rotation_vector,
     save_figure,
 )
@@ -17,6 +19,8 @@ __all__ = [
     "plot_all",
     "plot_ball_trajectory",
     "plot_contact_force",
+    "plot_journal_trajectory",
+    "plot_slider_offset",
     "plot_platform",
     "rotation_vector",
     "save_figure",

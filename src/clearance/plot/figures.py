@@ -13,9 +13,15 @@ ds, ...}, see `clearance.io.dataset`) and writes, each as PNG and PDF (atomicall
   velocity [rad/s]. Acceleration: r_ddot [m/s^2] and the world angular acceleration
   R omega'_dot [rad/s^2].
 * `contact_force`: |F_N| [N] vs time, one panel per clearance joint, runs overlaid.
-* `ball_trajectory_<joint>`: ball centre relative to the socket centre in the socket frame
+* per clearance joint, by its kind (`clearance_kind`; files without it are spherical):
+  `ball_trajectory_<joint>`: ball centre relative to the socket centre in the socket frame
   [mm]: a 3-D curve inside the wire sphere of radius c, and the x-y, x-z, y-z projections
-  with the clearance circle; the stretches in contact drawn in red.
+  with the clearance circle; `journal_trajectory_<joint>` (revolute, cylindrical): the
+  journal centre in the bearing's cross-section (f-g plane of the bearing marker) inside the
+  clearance circle, and its axial offset (h) against time; `slider_offset_<joint>`
+  (prismatic): the slider centre's offset in the guide against time, width direction (f)
+  within the clearance band, and height (g) in the spatial model. The stretches in contact
+  are drawn in red.
 * `actuator_forces`: the actuator force of each driver row [N], runs overlaid.
 
 Uses the Figure API (no pyplot), so no global backend is changed and nothing opens a window.
@@ -204,9 +210,7 @@ def plot_ball_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> Figu
     sty = _styles(datasets)
     from mpl_toolkits.mplot3d import Axes3D  # noqa: F401  (registers the 3-D projection)
 
-    runs = [(n, ds) for n, ds in datasets.items() if joint in ds["clearance"].values]
-    if not runs:
-        raise KeyError(f"no run has a clearance joint named {joint!r}")
+    runs = _joint_runs(datasets, joint)
     c = 1e3 * float(runs[0][1]["radial_clearance"].sel(clearance=joint))
     lim = 1.15 * c
     fig = Figure(figsize=(7.0, 6.6), layout="constrained")
@@ -228,10 +232,9 @@ def plot_ball_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> Figu
         st = dict(sty[name])
         st.pop("zorder")
         # the in-contact stretches as one red path with breaks (NaN) between them: a dot per
-        # sample in contact (~19 000 of 20 001 in the default scenario) made 0.8 MB PDFs
-        ec = np.where(on[:, None], e, np.nan)
-        # a contact seen by one sample only has no stretch to draw: mark it with a dot
-        alone = on & ~np.r_[False, on[:-1]] & ~np.r_[on[1:], False]
+        # sample in contact (~19 000 of 20 001 in the default scenario) made 0.8 MB PDFs;
+        # a contact seen by one sample only has no stretch to draw: a dot marks it
+        ec, alone = _contact_path(e, on)
         ax3.plot(e[:, 0], e[:, 1], e[:, 2], label=name, **st)
         ax3.plot(ec[:, 0], ec[:, 1], ec[:, 2], "-", color="C3", linewidth=1.6, label="_")
         ax3.plot(*e[alone].T, ".", color="C3", markersize=3, label="_")
@@ -264,6 +267,125 @@ def plot_ball_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> Figu
 
 
 _PAIRS = ((0, 1), (0, 2), (1, 2))
+
+
+def _contact_path(e: np.ndarray, on: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(e with the free stretches blanked, the samples that are lone contacts): the red
+    in-contact path as one line with NaN breaks, and dots for contacts one sample long."""
+    ec = np.where(on[:, None], e, np.nan)
+    alone = on & ~np.r_[False, on[:-1]] & ~np.r_[on[1:], False]
+    return ec, alone
+
+
+def _joint_runs(datasets: Mapping[str, xr.Dataset], joint: str) -> list[tuple[str, xr.Dataset]]:
+    runs = [(n, ds) for n, ds in datasets.items() if joint in ds["clearance"].values]
+    if not runs:
+        raise KeyError(f"no run has a clearance joint named {joint!r}")
+    return runs
+
+
+@_styled
+def plot_journal_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> Figure:
+    """Journal centre in the bearing of revolute / cylindrical clearance joint `joint` [mm]:
+    the cross-section (bearing marker f, g axes) with the clearance circle, and, if the
+    journal moves axially (cylindrical joint, thrust clearance), its axial offset (h)."""
+    sty = _styles(datasets)
+    runs = _joint_runs(datasets, joint)
+    c = 1e3 * float(runs[0][1]["radial_clearance"].sel(clearance=joint))
+    ecc = {
+        name: 1e3 * ds["eccentricity"].sel(clearance=joint).transpose("time", "axis").values
+        for name, ds in runs
+    }
+    axial = max(float(np.ptp(e[:, 2])) if e.size else 0.0 for e in ecc.values()) > 1e-6 * c
+    fig = Figure(figsize=(7.5 if axial else 4.0, 3.6), layout="constrained")
+    ax, axh = fig.subplots(1, 2, width_ratios=(1.0, 1.3)) if axial else (fig.subplots(), None)
+    for name, ds in runs:
+        e = ecc[name]
+        on = ds["penetration"].sel(clearance=joint).values > 0
+        st = {k: v for k, v in sty[name].items() if k != "zorder"}
+        ec, alone = _contact_path(e, on)
+        ax.plot(e[:, 0], e[:, 1], label=name, **st)
+        ax.plot(ec[:, 0], ec[:, 1], "-", color="C3", linewidth=1.6, label="_")
+        ax.plot(e[alone, 0], e[alone, 1], ".", color="C3", markersize=3, label="_")
+        if axh is not None:
+            axh.plot(ds["time"].values, e[:, 2], label=name, **st)
+    ax.add_patch(Circle((0, 0), c, fill=False, color="0.4", linestyle="--", linewidth=0.8))
+    lim = 1.15 * c
+    ax.set_xlim(-lim, lim)
+    ax.set_ylim(-lim, lim)
+    ax.set_aspect("equal")
+    ax.set_xlabel("$e_f$ [mm]")
+    ax.set_ylabel("$e_g$ [mm]")
+    ax.plot([], [], "-", color="C3", linewidth=1.6, label="in contact")
+    ax.plot([], [], "--", color="0.4", label=f"clearance c = {c:.3g} mm")
+    ax.legend(loc="upper right", frameon=True, fontsize=7, framealpha=0.8)
+    if axh is not None:
+        axh.set_xlabel("time [s]")
+        axh.set_ylabel("axial offset $e_h$ [mm]")
+    fig.suptitle(f"Journal centre in the bearing of {joint} (bearing frame)", fontsize=10)
+    return fig
+
+
+@_styled
+def plot_slider_offset(datasets: Mapping[str, xr.Dataset], joint: str) -> Figure:
+    """Slider centre's offset in the guide of prismatic clearance joint `joint` [mm] against
+    time: width direction (guide f axis) within the clearance band, and the height
+    direction (g) when the model lets it move."""
+    sty = _styles(datasets)
+    runs = _joint_runs(datasets, joint)
+    c = 1e3 * float(runs[0][1]["radial_clearance"].sel(clearance=joint))
+    spatial = any(
+        "clearance_model" in ds.coords
+        and str(ds["clearance_model"].sel(clearance=joint).values) == "spatial"
+        for _, ds in runs
+    )
+    fig = Figure(figsize=(7.0, 2.0 + 1.6 * (2 if spatial else 1)), layout="constrained")
+    axs = np.atleast_1d(fig.subplots(2 if spatial else 1, 1, sharex=True, squeeze=False)[:, 0])
+    for name, ds in runs:
+        e = 1e3 * ds["eccentricity"].sel(clearance=joint).transpose("time", "axis").values
+        on = ds["penetration"].sel(clearance=joint).values > 0
+        t = ds["time"].values
+        st = {k: v for k, v in sty[name].items() if k != "zorder"}
+        for ax, k in zip(axs, (0, 1), strict=False):
+            ec, alone = _contact_path(np.column_stack([t, e[:, k]]), on)
+            ax.plot(t, e[:, k], label=name, **st)
+            ax.plot(ec[:, 0], ec[:, 1], "-", color="C3", linewidth=1.6, label="_")
+            ax.plot(t[alone], e[alone, k], ".", color="C3", markersize=3, label="_")
+    for ax, lab in zip(axs, ("$e_f$ (width)", "$e_g$ (height)"), strict=False):
+        for sgn in (-1, 1):
+            ax.axhline(sgn * c, color="0.4", linestyle="--", linewidth=0.8)
+        ax.set_ylabel(f"{lab} [mm]")
+    axs[0].plot([], [], "-", color="C3", linewidth=1.6, label="joint in contact (any corner)")
+    axs[0].plot([], [], "--", color="0.4", label=f"clearance {c:.3g} mm (centre offset)")
+    axs[0].legend(loc="upper right", frameon=True, fontsize=7, framealpha=0.8)
+    axs[-1].set_xlabel("time [s]")
+    fig.suptitle(f"Slider centre in the guide of {joint} (guide frame)", fontsize=10)
+    return fig
+
+
+# figure and file stem per clearance kind
+_KIND_FIGURES: dict[str, tuple[str, Callable]] = {
+    "spherical": ("ball_trajectory", plot_ball_trajectory),
+    "revolute": ("journal_trajectory", plot_journal_trajectory),
+    "cylindrical": ("journal_trajectory", plot_journal_trajectory),
+    "prismatic": ("slider_offset", plot_slider_offset),
+}
+
+
+def _joint_kinds(datasets: Mapping[str, xr.Dataset]) -> dict[str, str]:
+    """Clearance joint -> its kind (files written before the kinds existed: spherical)."""
+    out: dict[str, str] = {}
+    for ds in datasets.values():
+        if "clearance" not in ds.dims:
+            continue
+        kinds = (
+            ds["clearance_kind"].values
+            if "clearance_kind" in ds.coords
+            else ["spherical"] * ds.sizes["clearance"]
+        )
+        for j, k in zip(ds["clearance"].values, kinds, strict=True):
+            out.setdefault(str(j), str(k))
+    return out
 
 
 @_styled
@@ -323,10 +445,9 @@ def plot_all(
         for kind in ("displacement", "velocity", "acceleration")
     ]
     builders.append(("contact_force", functools.partial(plot_contact_force, datasets)))
-    builders += [
-        (f"ball_trajectory_{j}", functools.partial(plot_ball_trajectory, datasets, j))
-        for j in _clearance_runs(datasets)
-    ]
+    for j, kind in _joint_kinds(datasets).items():
+        stem, fn = _KIND_FIGURES[kind]
+        builders.append((f"{stem}_{j}", functools.partial(fn, datasets, j)))
     builders.append(("actuator_forces", functools.partial(plot_actuator_forces, datasets)))
     for stem, build in builders:
         fig = build()
