@@ -1,12 +1,13 @@
 """Encode clearance joints: each joint's description -> one row of the joint arrays
 (Model.clr_ix, clr_geo, clr_vec, clr_T) and one row per contact point (Model.cp_ix, cp_geo,
-cp_par), plus their names (column layouts in `clearance.kinds`).
+cp_par), plus their names (column layouts in `clearance.kinds`), and the rows of the joint
+that its clearance keeps ideal (`clearance_rows`).
 
 Per kind (kinds.ClearanceKind) an encoder gives the joint's geometry row (clr_geo), its
 clearance c, and its contact points (kind, geometry row cp_geo, share w of the normal law,
 event tolerance, law); the rest is common. The kernels read these layouts
 (`clearance.contact.spherical`, `journal`, `slider`). Adding a clearance kind: its encoder
-here and its entry in ENCODERS.
+here with its entry in ENCODERS, and its kept rows in ROWS.
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ from clearance.kinds import (
     ClearanceKind,
     ContactKind,
     JointType,
+    PrimKind,
 )
 from clearance.model.bodies import GROUND
 from clearance.model.clearance import Clearance, PrismaticClearance, RevoluteClearance
@@ -186,11 +188,51 @@ def _prismatic(name: str, cl: PrismaticClearance, joint: JointType):
     return geo, pts, (R, math.inf), (cl.slider_material, cl.guide_material)
 
 
+# per kind: its joint geometry row, contact points, radii and materials
 ENCODERS = {
     ClearanceKind.SPHERICAL: _spherical,
     ClearanceKind.REVOLUTE: _revolute,
     ClearanceKind.PRISMATIC: _prismatic,
 }
+
+
+def _revolute_rows(b, cl: RevoluteClearance, joint: JointType, ms, mb, bs, bb, Ts, Tb, ps, pb):
+    """A planar journal stays aligned with its bearing (h_b normal to f_s and g_s); a
+    revolute one stays axially in place (h_s . d = 0) unless it has an axial clearance."""
+    if cl.model == "planar":
+        b.prim(PrimKind.DOT1, bs, bb, abi=Ts[:, 0], abj=Tb[:, 2])
+        b.prim(PrimKind.DOT1, bs, bb, abi=Ts[:, 1], abj=Tb[:, 2])
+    if joint == JointType.REVOLUTE and cl.axial_clearance is None:
+        b.prim(PrimKind.DOT2, bs, bb, sbi=ps, sbj=pb, abi=Ts[:, 2], mi=ms, mj=mb)
+
+
+def _prismatic_rows(b, cl: PrismaticClearance, joint: JointType, ms, mb, bs, bb, Ts, Tb, ps, pb):
+    """A planar slider stays in the guide's f-h plane: g_s . d = 0, g_s . h_b = 0,
+    g_s . f_b = 0."""
+    if cl.model == "planar":
+        b.prim(PrimKind.DOT2, bs, bb, sbi=ps, sbj=pb, abi=Ts[:, 1], mi=ms, mj=mb)
+        b.prim(PrimKind.DOT1, bs, bb, abi=Ts[:, 1], abj=Tb[:, 2])
+        b.prim(PrimKind.DOT1, bs, bb, abi=Ts[:, 1], abj=Tb[:, 0])
+
+
+# per kind: the rows of the joint its clearance keeps ideal (model.clearance `kept_rows`)
+ROWS = {
+    ClearanceKind.SPHERICAL: lambda *args: None,  # the ball moves freely: no rows
+    ClearanceKind.REVOLUTE: _revolute_rows,
+    ClearanceKind.PRISMATIC: _prismatic_rows,
+}
+
+
+def clearance_rows(b, jt) -> None:
+    """Add the rows of clearance joint `jt` that stay ideal, written from the outer marker
+    (socket, bearing, guide) to the inner one. `b`: the compile builder."""
+    cl = jt.clearance
+    ms, mb = (jt.marker_i, jt.marker_j) if cl.outer == "i" else (jt.marker_j, jt.marker_i)
+    bs, ps, Ts = b.marker(ms)
+    bb, pb, Tb = b.marker(mb)
+    n0 = b.nrow
+    ROWS[cl.kind](b, cl, jt.kind, ms, mb, bs, bb, Ts, Tb, ps, pb)
+    assert b.nrow - n0 == cl.kept_rows(jt.kind), "kept_rows out of step with the rows"
 
 
 def _kind_name(cl: object, joint: JointType) -> str:

@@ -19,7 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
-from clearance.compile.clearances import clearance_arrays
+from clearance.compile.clearances import clearance_arrays, clearance_rows
 from clearance.compile.functions import encode_functions
 from clearance.kinds import (
     AB_I,
@@ -36,7 +36,6 @@ from clearance.kinds import (
 )
 from clearance.layout import WORK, StateLayout
 from clearance.model.bodies import GROUND
-from clearance.model.clearance import PrismaticClearance, RevoluteClearance
 from clearance.model.drivers import (
     DistanceDriver,
     OffsetDriver,
@@ -313,7 +312,7 @@ def _joint_prims(b: _Builder, jt) -> None:
     fj, gj, hj = Tj[:, 0], Tj[:, 1], Tj[:, 2]
     k = jt.kind
     if getattr(jt, "clearance", None) is not None:
-        _clearance_rows(b, jt)  # the rows its clearance keeps ideal
+        clearance_rows(b, jt)  # the rows its clearance keeps ideal
         return
     if k in (JointType.SPHERICAL, JointType.UNIVERSAL, JointType.REVOLUTE, JointType.FIXED):
         b.prim(PrimKind.SPHERICAL, bi, bj, sbi=pi, sbj=pj, mi=jt.marker_i, mj=jt.marker_j)
@@ -333,31 +332,6 @@ def _joint_prims(b: _Builder, jt) -> None:
         b.prim(PrimKind.DOT1, bi, bj, abi=fi, abj=gj)
         b.prim(PrimKind.DOT1, bi, bj, abi=gi, abj=hj)
         b.prim(PrimKind.DOT1, bi, bj, abi=hi, abj=fj)
-
-
-def _clearance_rows(b: _Builder, jt) -> None:
-    """The rows of a clearance joint that stay ideal (model.clearance: `kept_rows`), written
-    from the outer marker (bearing, guide) to the inner one: a planar journal stays aligned
-    with its bearing (h_b normal to f_s and g_s) and a revolute one axially in place
-    (h_s . d = 0, unless it has an axial clearance); a planar slider stays in the guide's
-    f-h plane (g_s . d = 0, g_s . h_b = 0, g_s . f_b = 0)."""
-    cl = jt.clearance
-    ms, mb = (jt.marker_i, jt.marker_j) if cl.outer == "i" else (jt.marker_j, jt.marker_i)
-    bs, ps, Ts = b.marker(ms)
-    bb, pb, Tb = b.marker(mb)
-    fs, gs, hs = Ts[:, 0], Ts[:, 1], Ts[:, 2]
-    n0 = b.nrow
-    if isinstance(cl, RevoluteClearance):
-        if cl.model == "planar":
-            b.prim(PrimKind.DOT1, bs, bb, abi=fs, abj=Tb[:, 2])
-            b.prim(PrimKind.DOT1, bs, bb, abi=gs, abj=Tb[:, 2])
-        if jt.kind == JointType.REVOLUTE and cl.axial_clearance is None:
-            b.prim(PrimKind.DOT2, bs, bb, sbi=ps, sbj=pb, abi=hs, mi=ms, mj=mb)
-    elif isinstance(cl, PrismaticClearance) and cl.model == "planar":
-        b.prim(PrimKind.DOT2, bs, bb, sbi=ps, sbj=pb, abi=gs, mi=ms, mj=mb)
-        b.prim(PrimKind.DOT1, bs, bb, abi=gs, abj=Tb[:, 2])
-        b.prim(PrimKind.DOT1, bs, bb, abi=gs, abj=Tb[:, 0])
-    assert b.nrow - n0 == cl.kept_rows(jt.kind), "kept_rows out of step with _clearance_rows"
 
 
 def _offset_row(b: _Builder, mi: str, mj: str, function) -> tuple[str, str]:
