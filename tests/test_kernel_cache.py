@@ -9,13 +9,13 @@ from numba.core import config
 
 from clearance import _kernel_cache
 from clearance.dynamics.rhs import rhs
-from clearance.integrate.erk import erk54
+from clearance.integrate.methods import METHODS, method_loop
 
 
 def test_kernels_cache_under_the_source_keyed_directory():
     d = str(_kernel_cache.cache_dir())
     assert _kernel_cache.source_hash() in d
-    for fn in (rhs, erk54):
+    for fn in (rhs, *(method_loop(name) for name in METHODS)):
         assert fn._cache._cache_path.startswith(d), fn
     assert config.CACHE_DIR != d  # numba's global setting was restored after the imports
 

@@ -18,6 +18,8 @@ from clearance.analysis.assembly import (
     velocity_analysis,
 )
 from clearance.compile.compiled import Compiled, compile_mechanism
+from clearance.integrate.methods import METHODS as _METHODS
+from clearance.integrate.methods import method_loop as _method_loop
 from clearance.integrate.simulate import (
     contact_state,
     initial_state,
@@ -155,4 +157,6 @@ __all__ = [
     "__version__",
 ]
 
+for _name in _METHODS:  # the integration loops are imported by name: here, under the cache
+    _method_loop(_name)
 _kernel_cache.restore(_prev_cache_dir)

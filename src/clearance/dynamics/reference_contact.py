@@ -16,8 +16,9 @@ instead of [f; A^T (s x f)].
 * the "typical user code" baseline of bench/bench_scenario.py, with `solve_ivp_clearance`
   (SciPy RK45 whose accepted steps update the contact state).
 
-State layout (the compiled one): y = [q (7 nb) | v (6 nb) | z (3 nclr) |
-W_c, W_d, W_a, W_m, W_L | D_n (nclr) | D_t (nclr)]. Clearance joints are numbered in the
+State layout (the compiled one, clearance.layout; a spherical joint has one contact point,
+so ncp = nclr): y = [q (7 nb) | v (6 nb) | z (3 nclr) | W_c, W_d, W_a, W_m, W_L | D_n (nclr)
+| D_t (nclr)]. Clearance joints are numbered in the
 order of `mech.joints`. The discrete state per joint is (in_contact, delta_dot_minus).
 Sliding markers and varying inertias are outside this reference, as in reference.py.
 """

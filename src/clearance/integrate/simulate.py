@@ -14,10 +14,8 @@ from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.contact.element import ContactState, make_contact_state
 from clearance.dynamics.rhs import make_work, rhs
 from clearance.integrate.buffers import prefaulted_copy, prefaulted_zeros
-from clearance.integrate.erk import erk54
-from clearance.integrate.methods import METHODS
+from clearance.integrate.methods import METHODS, method_loop
 from clearance.integrate.post import post_process
-from clearance.integrate.rk4 import rk4
 from clearance.integrate.state import Options, Outputs
 from clearance.kinds import (
     NSTATS,
@@ -254,10 +252,8 @@ def simulate(
 
 def _run_loop(method, model, wk, cs, opts, out, t0, y) -> tuple[int, int, float, int]:
     """Run the compiled loop of `method` (methods.METHODS)."""
-    loop, data = METHODS[method]
-    if loop == "erk54":
-        return erk54(model, wk, cs, opts, out, *data, float(t0), y)
-    return rk4(model, wk, cs, opts, out, float(t0), y)
+    loop = method_loop(method)
+    return loop(model, wk, cs, opts, out, *METHODS[method].data, float(t0), y)
 
 
 def _build_result(

@@ -1,5 +1,5 @@
 """Butcher tableaus as data: explicit 7-stage FSAL 5(4) pairs with a 4th-order continuous
-extension, all in one layout (the integrator loop `loops.erk54` takes any of them).
+extension, all in one layout (the integrator loop `erk.erk54` takes any of them).
 
   A (7, 6)  stage coefficients; row 7 is the 5th-order weights b (FSAL: stage 7 is f(y_new))
   C (7,)    nodes
