@@ -94,7 +94,7 @@ def make_contact_state(model) -> ContactState:
     return ContactState(np.zeros(model.ncp, dtype=np.int64), np.zeros(model.ncp))
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def point_gap(model, p, bA, br, fval):
     """delta of contact point p (positions only: bA, br of its two bodies set)."""
     k = model.cp_ix[p, PI_CLR]
@@ -108,7 +108,7 @@ def point_gap(model, p, bA, br, fval):
     return slider.corner_gap(model, p, k, bA, br, fval)
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def point_contact(model, p, bA, br, brd, bw, fval):
     """(delta, delta_dot, n, arm_s, arm_b, u_s, u_b) of contact point p."""
     k = model.cp_ix[p, PI_CLR]
@@ -142,7 +142,7 @@ def eccentricity(model, k, bA, br, fval):
     return e, Pb
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy")
 def _apply(model, y, wk, cs, ydot, p, geometry):
     """The common part of contact point p, given its geometry (delta, delta_dot, n, arm_s,
     arm_b, u_s, u_b; see the module docstring): diagnostics, normal law, friction, forces on
