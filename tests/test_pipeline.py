@@ -109,6 +109,40 @@ def test_ups_upu_static_actuator_forces_equal_virtual_work():
         assert F[k] == pytest.approx(dV, rel=1e-5, abs=1e-6 * np.max(np.abs(F)))
 
 
+def test_universal_pair_clearance_runs_from_the_ideal_start(tmp_path):
+    """A clearance in a universal joint's pair adds the cross as a body: the clearance run
+    starts every other body where the ideal run starts (the cross is placed by the initial
+    assembly), ball placement along the reaction skips it, the file round-trips."""
+    u1 = {
+        "pair": "i",
+        "cross_mass": 0.05,
+        "cross_inertia": [2e-5, 2e-5, 3e-5],
+        "journal_radius": 0.006,
+        "radial_clearance": 1e-4,
+    }
+    s = short("ups_upu", **{"trajectory.duration": 0.02})
+    s = with_overrides(s, {"clearance.joints.U_1": u1})
+    o = run_scenario(s, out_dir=tmp_path, log=None)
+    ri, rc = o.ideal, o.clearance
+    assert ri.success and rc.success, rc.message
+    assert "U_1.cross" in rc.compiled.body_names and set(o.summary["joints"]) >= {"U_1.i"}
+    for b in ri.compiled.body_names:
+        np.testing.assert_allclose(rc.q[0, rc.compiled.q_slice(b)], ri.q[0, ri.compiled.q_slice(b)])
+    assert np.linalg.norm(rc.eccentricity("U_1.i")[0]) < 1e-12  # the journal starts centred
+    assert np.max(rc.penetration("U_1.i")) < 2e-5
+    data = load_results(o.files[0])
+    assert "U_1.i" in data["clearance"]["clearance"].values
+    _, clr, info = build_mechanisms(s)
+    assert info.clearance_joints == ("S_1", "S_3", "U_1.i")
+    y0 = np.concatenate(
+        (rc.q[0], rc.v[0], np.zeros(rc.compiled.ny - rc.q.shape[1] - rc.v.shape[1]))
+    )
+    yb = place_balls_along_reaction(clr, ri, y0, info.clearance_joints)  # S_1, S_3 only
+    r = cl.simulate(rc.compiled, 1e-6, t_out=np.array([0.0]), y0=yb)
+    assert np.linalg.norm(r.eccentricity("S_1")[0]) == pytest.approx(0.3e-3, rel=1e-9)
+    assert np.linalg.norm(r.eccentricity("U_1.i")[0]) < 1e-9
+
+
 def test_sps_cu_scenario_runs_lumped(tmp_path):
     o = run_scenario(short("sps_cu"), out_dir=tmp_path, log=None)
     assert o.ideal.success and o.clearance.success

@@ -603,6 +603,37 @@ def test_clearance_on_a_prismatic_joint_by_name() -> None:
     assert r.success, r.message
 
 
+def test_clearance_in_a_universal_joints_revolute_pair() -> None:
+    """A universal joint's revolute pair takes a clearance by the joint's name: the cross
+    becomes a body and the pair a revolute clearance joint `U_1.j`; the file round-trips."""
+    text = (
+        MINIMAL
+        + """
+[clearance.joints.U_1]
+pair = "j"
+cross_mass = 0.05
+cross_inertia = [2e-6, 2e-6, 3e-6]
+journal_radius = 0.004
+radial_clearance = 5e-5
+normal = { law = "lankarani_nikravesh", stiffness = 1e10, restitution = 0.8 }
+"""
+    )
+    s = loads_scenario(text)
+    u1 = s.clearance.joints["U_1"]
+    assert isinstance(u1, cl.UniversalClearance) and u1.pair == "j"
+    assert scenario_to_dict(s)["clearance"]["joints"]["U_1"]["kind"] == "universal"
+    assert scenario_from_dict(scenario_to_dict(s)) == s
+    ideal, clr, _ = build_mechanisms(s)
+    assert "U_1" in ideal.joints and "U_1" not in clr.joints
+    assert clr.joints["U_1.j"].clearance == u1.revolute()
+    assert clr.joints["U_1.i"].clearance is None and "U_1.cross" in clr.bodies
+    c = cl.compile_mechanism(clr)
+    assert [ci.name for ci in c.clearances] == ["U_1.j", "S_1"]  # mech.joints order
+    assert c.nrow == 66 - 3 - 4 + 5 + 3  # S_1 keeps none; U_1 -> revolute + planar clearance
+    r = cl.simulate(c, 0.005, dt_out=1e-3)
+    assert r.success, r.message
+
+
 @pytest.mark.parametrize(
     ("text", "field", "allowed"),
     [
@@ -611,7 +642,19 @@ def test_clearance_on_a_prismatic_joint_by_name() -> None:
             "kind",
             "its clearance kind is 'prismatic'",
         ),
-        ("[clearance.joints.U_1]\nwidth = 0.03", "clearance.joints.U_1", "can have clearance: S_1"),
+        ("[clearance.joints.Q_1]\nwidth = 0.03", "clearance.joints.Q_1", "can have clearance: S_1"),
+        (
+            '[clearance.joints.U_1]\npair = "j"\ncross_inertia = [1e-6, 1e-6, 2e-6]\n'
+            "journal_radius = 0.005\nradial_clearance = 1e-4",
+            "clearance.joints.U_1.cross_mass",
+            "required",
+        ),
+        (
+            '[clearance.joints.U_1]\npair = "j"\ncross_mass = 0.02\ncross_inertia = [1e-6, 0]\n'
+            "journal_radius = 0.005\nradial_clearance = 1e-4",
+            "clearance.joints.U_1.cross_inertia",
+            "3 finite numbers > 0",
+        ),
         ("[clearance.joints.P_2]\nwidth = 0.03\nlength = 0.06", "clearance", "required"),
         ("[clearance.joints.P_2]\nwidht = 0.03", "widht", "did you mean 'width'"),
     ],
@@ -653,6 +696,11 @@ def test_paths_know_the_fields_of_each_kind() -> None:
 
 def test_registry_lists_every_clearance_capable_joint_with_its_kind() -> None:
     mech = ups_upu_ideal()
-    kinds = {cl.Spherical: "spherical", cl.Prismatic: "prismatic", cl.Revolute: "revolute"}
+    kinds = {
+        cl.Spherical: "spherical",
+        cl.Prismatic: "prismatic",
+        cl.Revolute: "revolute",
+        cl.Universal: "universal",
+    }
     expected = {n: kinds[type(j)] for n, j in mech.joints.items() if type(j) in kinds}
     assert dict(MECHANISMS[MechanismType.UPS_UPU].clearance_joints) == expected

@@ -57,6 +57,7 @@ from clearance.model.clearance import (
     PrismaticClearance,
     RevoluteClearance,
     SphericalClearance,
+    UniversalClearance,
 )
 from clearance.model.contact_laws import (
     STEEL,
@@ -130,6 +131,7 @@ __all__ = [
     "SphericalClearance",
     "RevoluteClearance",
     "PrismaticClearance",
+    "UniversalClearance",
     "contact_state",
     "latch_contacts",
     "Material",

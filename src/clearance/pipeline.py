@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -21,13 +21,14 @@ import numpy as np
 import clearance
 from clearance.analysis.assembly import assemble, velocity_analysis
 from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
-from clearance.compile.compiled import compile_mechanism
-from clearance.integrate.simulate import simulate
+from clearance.compile.compiled import Compiled, compile_mechanism
+from clearance.integrate.simulate import initial_state, simulate
 from clearance.model.bodies import Marker, quaternion_to_rotation
 from clearance.model.clearance import Clearance
 from clearance.model.drivers import OffsetDriver
 from clearance.model.mechanism import Mechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
+from clearance.scenario.build import with_clearances
 from clearance.scenario.schema import InitialPlacement, Scenario
 from clearance.store.result import Result
 
@@ -156,16 +157,27 @@ def place_balls_along_reaction(
     n0 = -f/|f|, f the ideal joint's force of the socket body on the ball body at t = 0, so
     the contact force -F_N n0 starts in the ideal direction. The offset is imposed with three
     temporary OffsetDrivers per joint (socket-frame axes) during assembly, then removed.
-    Only ball-in-socket joints are placed; journals and sliders start centred.
+    Only ball-in-socket joints are placed; every other clearance joint (journals, sliders,
+    a ball with no ideal force) is held ideal during that assembly, so it stays where it is
+    in `y_ideal` (centred when that is the ideal start).
     """
-    mech = clr.copy()
     c0 = compile_mechanism(clr)
+    placed = [
+        jn
+        for jn in joints
+        if isinstance(getattr(clr.joints.get(jn), "clearance", None), Clearance)
+        and np.linalg.norm(ideal_result.reaction(jn)[0][0]) > 0
+    ]
+    held = {
+        jn: replace(jt, clearance=None)
+        for jn, jt in clr.joints.items()
+        if getattr(jt, "clearance", None) is not None and jn not in placed
+    }
+    mech = clr.replace(**held) if held else clr.copy()
     names = []
-    for jn in joints:
+    for jn in placed:
         jt = clr.joints[jn]
         cl = jt.clearance
-        if not isinstance(cl, Clearance):
-            continue
         socket_marker, ball_marker = (
             (jt.marker_i, jt.marker_j) if cl.socket == "i" else (jt.marker_j, jt.marker_i)
         )
@@ -173,8 +185,6 @@ def place_balls_along_reaction(
         k = ideal_result.blocks.index(jn)
         ball_body = clr.markers[ball_marker].body
         f_ball = f_on_body[0] if ideal_result.reaction_body[k] == ball_body else -f_on_body[0]
-        if np.linalg.norm(f_ball) == 0:
-            continue
         n0 = -f_ball / np.linalg.norm(f_ball)
         sm = clr.markers[socket_marker]
         A_s = np.eye(3)
@@ -195,6 +205,32 @@ def place_balls_along_reaction(
     out = np.zeros(c.ny)
     out[: c.nq + c.nv] = y[: c.nq + c.nv]
     return velocity_analysis(c, out)
+
+
+def _start_from(r_ideal: Result, cc: Compiled, ideal: Mechanism, s: Scenario) -> np.ndarray:
+    """Initial state of the clearance mechanism: every body where the ideal run starts. A
+    body the ideal mechanism does not have (a universal joint's cross) is placed from that
+    state: the clearance mechanism is rebuilt from the ideal one described at its start."""
+    y0 = np.zeros(cc.ny)
+    ci = r_ideal.compiled
+    if cc.body_names == ci.body_names:  # the same bodies: the same q and v
+        y0[: cc.nq + cc.nv] = np.concatenate((r_ideal.q[0], r_ideal.v[0]))
+        return y0
+    at_start = ideal.copy()
+    for b in ci.body_names:
+        q, sv = r_ideal.q[0, ci.q_slice(b)], ci.v_slice(b)
+        v = r_ideal.v[0, sv]
+        at_start.bodies[b] = replace(
+            ideal.bodies[b],
+            position=tuple(q[:3]),
+            orientation=tuple(q[3:]),
+            velocity=tuple(v[:3]),
+            angular_velocity=tuple(v[3:]),
+        )
+    c0 = compile_mechanism(with_clearances(at_start, s))
+    assert c0.body_names == cc.body_names
+    y0[: cc.nq + cc.nv] = initial_state(c0, assemble_positions=False)[: cc.nq + cc.nv]
+    return y0
 
 
 def _with_lumped_actuator_forces(r: Result, s: Scenario) -> Result:
@@ -282,10 +318,9 @@ def run_scenario(
         f"[4/5] clearance mechanism ({', '.join(info.clearance_joints)}; initial "
         f"placement {s.clearance.initial.value})",
     )
-    y_ideal = r_ideal.q[0].tolist() + r_ideal.v[0].tolist() if r_ideal.t.size else None
-    y0 = np.zeros(cc.ny)
-    if y_ideal is not None:
-        y0[: cc.nq + cc.nv] = y_ideal
+    y0 = None
+    if r_ideal.t.size:
+        y0 = _start_from(r_ideal, cc, ideal, s)
         if s.clearance.initial == InitialPlacement.REACTION:
             y0 = place_balls_along_reaction(clr, r_ideal, y0, info.clearance_joints)
     r_clr = simulate(cc, t_end, y0=y0, **kw)

@@ -35,12 +35,13 @@ say which marker's body holds the outer part ("i", default, or "j").
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import ClassVar
 
 import numpy as np
 
 from clearance.kinds import ClearanceKind, JointType
+from clearance.model.bodies import Body
 from clearance.model.contact_laws import (
     FRICTION_LAWS,
     NORMAL_LAWS,
@@ -407,6 +408,70 @@ class PrismaticClearance:
     def kept_rows(self, joint: JointType) -> int:
         """Planar: 3 rows keep the slider in the guide's f-h plane; spatial: none."""
         return 3 if self.model == "planar" else 0
+
+
+@dataclass(frozen=True)
+class UniversalClearance(RevoluteClearance):
+    """A journal-in-bearing clearance in one revolute pair of a Universal joint.
+
+    A universal joint is a cross between two yokes: a revolute pair about h_i (yoke on body
+    i) and one about h_j (yoke on body j). A clearance in one pair needs the cross as a body
+    of its own, so `Mechanism.with_clearance(name, UniversalClearance(...))` replaces the
+    joint by: body "<name>.cross" (`cross_mass` [kg], `cross_inertia` [kg m^2]: 3 principal
+    moments about the cross axes h_i, h_j, h_i x h_j, or a 3x3 tensor in those axes), an ideal
+    Revolute "<name>.<other pair>" and a Revolute "<name>.<pair>" with this clearance (all the
+    RevoluteClearance fields; the bearing is on the yoke, marker i of the new revolutes, the
+    journals are the cross's trunnions). pair: "i" (the pair about h_i) or "j". The cross
+    is placed from the mechanism's description state (the bodies' position, orientation and
+    velocities): at the joint point, its axes along h_i and h_j (h_j orthogonalised), moving
+    with yoke i plus the rate about h_i that yoke j's motion needs (exact for a consistent
+    state; the run's initial assembly corrects the rest). To start a clearance run from a
+    given state, describe the bodies at that state before adding the clearance.
+    """
+
+    pair: str | None = None
+    cross_mass: float | None = None
+    cross_inertia: object = None
+
+    joints: ClassVar[tuple[JointType, ...]] = (JointType.UNIVERSAL,)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        who = "UniversalClearance"
+        if self.pair not in ("i", "j"):
+            raise ModelError(
+                who,
+                "pair",
+                self.pair,
+                "allowed: 'i' (the revolute pair about h_i, yoke on body i) or 'j' (about h_j)",
+            )
+        if self.cross_mass is None:
+            raise ModelError(who, "cross_mass", None, "the cross is a body: give its mass [kg]")
+        _set(self, "cross_mass", _pos(who, "cross_mass", self.cross_mass))
+        if self.cross_inertia is None:
+            raise ModelError(
+                who,
+                "cross_inertia",
+                None,
+                "the cross becomes a body: give its inertia [kg m^2] (3 principal moments "
+                "about h_i, h_j, h_i x h_j, or a 3x3 tensor)",
+            )
+        try:  # the body's own checks of the inertia
+            Body("cross", self.cross_mass, self.cross_inertia)
+        except ModelError as e:
+            raise ModelError(who, "cross_inertia", self.cross_inertia, e.allowed) from None
+        J = np.asarray(self.cross_inertia, dtype=float)
+        _set(self, "cross_inertia", tuple(J.tolist()) if J.ndim == 1 else tuple(map(tuple, J)))
+
+    def revolute(self) -> RevoluteClearance:
+        """The clearance of the pair's revolute joint (the RevoluteClearance fields)."""
+        names = [f.name for f in fields(RevoluteClearance) if f.init]
+        kw = {n: getattr(self, n) for n in names}
+        if self.given == "bearing_radius":
+            kw["radial_clearance"] = None
+        else:
+            kw["bearing_radius"] = None
+        return RevoluteClearance(**kw)
 
 
 CLEARANCE_TYPES = (Clearance, RevoluteClearance, PrismaticClearance)

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from clearance.model.bodies import GROUND, Body, Marker
+from clearance.model.clearance import UniversalClearance
 from clearance.model.drivers import (
     DistanceDriver,
     OffsetDriver,
@@ -22,7 +23,7 @@ from clearance.model.drivers import (
 )
 from clearance.model.errors import ModelError
 from clearance.model.forces import PointForce, SpringDamper, Torque
-from clearance.model.joints import Cylindrical, Joint, Prismatic
+from clearance.model.joints import Cylindrical, Joint, Prismatic, Revolute, Universal
 
 _DRIVERS = (PrismaticDriver, DistanceDriver, PositionDriver, OrientationDriver, OffsetDriver)
 _FORCES = (PointForce, Torque, SpringDamper)
@@ -222,20 +223,104 @@ class Mechanism:
     def with_clearance(self, joint: str, clearance: object) -> Mechanism:
         """A copy in which joint `joint` has `clearance` (None: ideal again): a Clearance on a
         Spherical joint, a RevoluteClearance on a Revolute or Cylindrical joint, a
-        PrismaticClearance on a Prismatic joint (`clearance.model.clearance`)."""
+        PrismaticClearance on a Prismatic joint, a UniversalClearance on a Universal joint
+        (which then becomes its cross, a body, and two revolute joints, one of them with the
+        clearance: `clearance.model.clearance.UniversalClearance`)."""
         from dataclasses import replace
 
         jt = self.joints.get(joint)
+        if isinstance(jt, Universal) and clearance is not None:
+            if not isinstance(clearance, UniversalClearance):
+                raise ModelError(
+                    f"Universal '{joint}'",
+                    "clearance",
+                    clearance,
+                    "expected UniversalClearance(pair='i' or 'j', cross_mass=..., "
+                    "cross_inertia=..., journal_radius=..., ...): a clearance in one of its "
+                    "revolute pairs",
+                )
+            return self._with_cross(jt, clearance)
         if not hasattr(jt, "clearance"):
             able = [n for n, j in self.joints.items() if hasattr(j, "clearance")]
+            able += [n for n, j in self.joints.items() if isinstance(j, Universal)]
             raise ModelError(
                 f"Mechanism '{self.name}'",
                 "with_clearance",
                 joint,
-                "expected the name of a spherical, revolute, cylindrical or prismatic joint; "
-                f"joints that can have clearance: {able}",
+                "expected the name of a spherical, universal, revolute, cylindrical or "
+                f"prismatic joint; joints that can have clearance: {able}",
             )
         return self.replace(**{joint: replace(jt, clearance=clearance)})
+
+    def _marker_world(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """(point, triad) of marker `name` in the world at the description's pose (t = 0)."""
+        mk = self.markers[name]
+        s = np.array(mk.position, dtype=float)
+        if mk.slide is not None:
+            s = s + np.array(mk.slide_axis) * float(mk.slide(0.0))
+        if mk.body == GROUND:
+            return s, mk.triad
+        b = self.bodies[mk.body]
+        A = b.rotation
+        return np.array(b.position) + A @ s, A @ mk.triad
+
+    def _point_velocity(self, marker: str, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(velocity of the point P moving with marker's body, its angular velocity), world,
+        at the description's state."""
+        body = self.markers[marker].body
+        if body == GROUND:
+            return np.zeros(3), np.zeros(3)
+        b = self.bodies[body]
+        w = b.rotation @ np.array(b.angular_velocity)
+        return np.array(b.velocity) + np.cross(w, P - np.array(b.position)), w
+
+    def _with_cross(self, jt: Universal, cl: UniversalClearance) -> Mechanism:
+        """Replace universal joint `jt` by its cross (a body) and two revolute joints, the
+        one of pair `cl.pair` with the clearance (UniversalClearance)."""
+        who = f"Universal '{jt.name}'"
+        P, Ti = self._marker_world(jt.marker_i)
+        _, Tj = self._marker_world(jt.marker_j)
+        a = Ti[:, 2]
+        b = Tj[:, 2] - (Tj[:, 2] @ a) * a
+        if np.linalg.norm(b) < 1e-6:
+            raise ModelError(who, "marker_j", jt.marker_j, "h_j is parallel to h_i at the start")
+        b = b / np.linalg.norm(b)
+        R = np.column_stack((a, b, np.cross(a, b)))  # cross frame: h_i, h_j, h_i x h_j
+        cross = f"{jt.name}.cross"
+        try:
+            vel, w_c = self._point_velocity(jt.marker_i, P)
+            w_j = self._point_velocity(jt.marker_j, P)[1]
+            # the cross turns with yoke i plus a rate about h_i; yoke j with the cross plus a
+            # rate about h_j: w_j - w_i = u a + s b (least squares; exact for a consistent
+            # state of the universal joint)
+            (u, _), *_ = np.linalg.lstsq(np.column_stack((a, b)), w_j - w_c, rcond=None)
+            w_c = w_c + u * a
+            body = Body(cross, cl.cross_mass, cl.cross_inertia, tuple(P), R, tuple(vel), R.T @ w_c)
+        except ModelError as e:
+            raise ModelError(who, f"clearance.cross_{e.field}", e.value, e.allowed) from e
+        # cross markers: h along the pair's axis (cross x = h_i, y = h_j)
+        mi = Marker(f"{jt.name}.cross_i", cross, orientation=np.eye(3)[:, [1, 2, 0]])
+        mj = Marker(f"{jt.name}.cross_j", cross, orientation=np.eye(3)[:, [2, 0, 1]])
+        rev = cl.revolute()
+        pairs = {
+            "i": Revolute(f"{jt.name}.i", jt.marker_i, mi.name),
+            "j": Revolute(f"{jt.name}.j", jt.marker_j, mj.name),
+        }
+        p = pairs[cl.pair]
+        pairs[cl.pair] = Revolute(p.name, p.marker_i, p.marker_j, clearance=rev)
+        m = self.copy()
+        m.joints = {}
+        for name, other in self.joints.items():  # the new joints where the old one was
+            if name == jt.name:
+                m.joints.update({p.name: p for p in pairs.values()})
+            else:
+                m.joints[name] = other
+        for e in (body, mi, mj):
+            m._check_new_name(who, e.name)
+        m.bodies[cross] = body
+        m.markers[mi.name] = mi
+        m.markers[mj.name] = mj
+        return m.validate()
 
     def without(self, *names: str) -> Mechanism:
         """A copy without the named joints, drivers or forces."""

@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from clearance.mechanisms.ups_upu import home_leg_lengths, ups_upu_ideal
+from clearance.model.clearance import UniversalClearance
 from clearance.model.errors import ModelError
 from clearance.model.functions import Constant, Sinusoid, TimeFunction
 from clearance.model.mechanism import Mechanism
@@ -34,7 +35,7 @@ from clearance.scenario.schema import (
     TrajectorySpec,
 )
 
-__all__ = ["BUILDERS", "BuildInfo", "build_mechanisms", "shape_function"]
+__all__ = ["BUILDERS", "BuildInfo", "build_mechanisms", "shape_function", "with_clearances"]
 
 Drives = Sequence[TimeFunction | float] | Mapping[str, TimeFunction | float] | None
 
@@ -57,8 +58,9 @@ class BuildInfo:
     platform_body / platform_marker: the moving platform and the marker (here a body name:
     its mass centre with the body axes) whose pose the trajectory prescribes. actuators:
     driver names, one per actuated leg, in order; actuator_joints: their prismatic joints;
-    home_drives: actuator values at home [m]. clearance_joints: names of the joints with
-    clearance. home_position (3,) [m]: platform centre at home, where g(t) = 0.
+    home_drives: actuator values at home [m]. clearance_joints: names of the clearance
+    joints in the clearance mechanism (a universal joint's pair: "<joint>.<pair>").
+    home_position (3,) [m]: platform centre at home, where g(t) = 0.
     pose_sequence / pose_mode: rotation sequence and mode of the prescribed orientation
     (`clearance.analysis.ik.PlatformTrajectory`); angle_coordinates: trajectory
     coordinates mapped onto that sequence (missing ones are 0). t_end [s]: the scenario's
@@ -122,7 +124,7 @@ def _drive_list(drives: Drives, actuators: tuple[str, ...], source: str) -> list
     return [drives[a] for a in actuators]
 
 
-def _with_clearances(ideal: Mechanism, s: Scenario) -> Mechanism:
+def with_clearances(ideal: Mechanism, s: Scenario) -> Mechanism:
     """The scenario's clearance mechanism: the ideal one with its clearance joints."""
     clr = ideal.copy()
     for name, joint in s.clearance.joints.items():
@@ -136,7 +138,10 @@ def _info(s: Scenario, mtype: MechanismType, home_height: float, **specific) -> 
     kind = MECHANISMS[mtype]
     return BuildInfo(
         mechanism_type=mtype,
-        clearance_joints=tuple(s.clearance.joints),
+        clearance_joints=tuple(
+            f"{n}.{j.pair}" if isinstance(j, UniversalClearance) else n
+            for n, j in s.clearance.joints.items()
+        ),
         home_position=(0.0, 0.0, home_height),
         trajectory=s.trajectory,
         pose_sequence=kind.sequence,
@@ -165,7 +170,7 @@ def _build_ups_upu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, B
         actuator_joints=tuple(f"P_{k}" for k in range(1, 6)),
         home_drives=home,
     )
-    return ideal, _with_clearances(ideal, s), info
+    return ideal, with_clearances(ideal, s), info
 
 
 def _build_sps_cu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, BuildInfo]:
@@ -194,7 +199,7 @@ def _build_sps_cu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, Bu
         home_drives=home,
         ik_mechanism=sps_cu(par, limbs="two-body", lengths=lengths, name=f"{s.name} (IK)"),  # type: ignore[arg-type]
     )
-    return ideal, _with_clearances(ideal, s), info
+    return ideal, with_clearances(ideal, s), info
 
 
 Builder = Callable[[Scenario, Drives], tuple[Mechanism, Mechanism, BuildInfo]]

@@ -28,6 +28,7 @@ _ALLOWED = {
     "nonneg": "expected a finite number >= 0",
     "count": "expected an integer >= 1",
     "bool": "expected true or false",
+    "positive3": "expected a list of 3 finite numbers > 0",
 }
 
 
@@ -77,6 +78,13 @@ def check_kind(f: Field, value: object) -> tuple[bool, object, str]:
     if k == "count":
         ok = isinstance(value, int) and not isinstance(value, bool) and value >= 1
         return ok, value, allowed
+    if k == "positive3":
+        ok = (
+            isinstance(value, list)
+            and len(value) == 3
+            and all(_real(x) and math.isfinite(x) and x > 0 for x in value)
+        )
+        return ok, tuple(float(x) for x in value) if ok else value, allowed
     if not _real(value) or math.isnan(value):  # type: ignore[arg-type]
         return False, value, allowed
     v = float(value)  # type: ignore[arg-type]

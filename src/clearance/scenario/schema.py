@@ -27,7 +27,12 @@ from typing import Any
 from clearance.integrate.methods import METHODS
 from clearance.mechanisms.params import ParamSet, SpsCuParams
 from clearance.mechanisms.ups_upu import UpsUpuParams
-from clearance.model.clearance import Clearance, PrismaticClearance, RevoluteClearance
+from clearance.model.clearance import (
+    Clearance,
+    PrismaticClearance,
+    RevoluteClearance,
+    UniversalClearance,
+)
 from clearance.model.contact_laws import (
     FRICTION_LAWS,
     NORMAL_LAWS,
@@ -90,7 +95,8 @@ class MechanismKind:
     params: its parameter set class; spherical_joints: its spherical joints, with the body
     of marker i (the default socket side); clearance_joints: every joint that may get
     clearance, with its clearance kind ("spherical", "revolute", "cylindrical",
-    "prismatic"; `CLEARANCE_KINDS`); two_body_joints: those that exist only with two-body
+    "prismatic", "universal": a revolute pair of a universal joint; `CLEARANCE_KINDS`);
+    two_body_joints: those that exist only with two-body
     limbs (4-SPS/CU `limb_model`); positions / angles: trajectory
     amplitude coordinates [m] / [rad]; sequence, mode: the platform-pose description of
     `clearance.analysis.ik` (angles map onto the sequence, missing ones are 0).
@@ -123,6 +129,8 @@ MECHANISMS: Mapping[MechanismType, MechanismKind] = {
         clearance_joints={
             **{f"S_{k}": "spherical" for k in range(1, 5)},
             **{f"P_{k}": "prismatic" for k in range(1, 6)},
+            **{f"U_{k}": "universal" for k in range(1, 6)},
+            "U5p": "universal",
         },
     ),
     # 4-SPS/CU: SA_k base side, SB_k platform side; C the central leg's cylindrical joint;
@@ -142,6 +150,7 @@ MECHANISMS: Mapping[MechanismType, MechanismKind] = {
             **{f"SA_{k}": "spherical" for k in range(1, 5)},
             **{f"SB_{k}": "spherical" for k in range(1, 5)},
             "C": "cylindrical",
+            "U": "universal",
             **{f"P_{k}": "prismatic" for k in range(1, 5)},
         },
         two_body_joints=tuple(f"P_{k}" for k in range(1, 5)),
@@ -207,6 +216,16 @@ CYLINDRICAL_FIELDS = {
     for k, v in REVOLUTE_FIELDS.items()
     if k not in ("axial_clearance", "thrust_radius", "thrust_points")
 }
+UNIVERSAL_FIELDS = {
+    "pair": Field(
+        "choice", REQUIRED, doc="pair with clearance: about h_i or h_j", choices=("i", "j")
+    ),
+    "cross_mass": Field("positive", REQUIRED, "kg", "mass of the cross (it becomes a body)"),
+    "cross_inertia": Field(
+        "positive3", REQUIRED, "kg m2", "principal moments of the cross about h_i, h_j, h_i x h_j"
+    ),
+    **REVOLUTE_FIELDS,
+}
 PRISMATIC_FIELDS = {
     "width": Field("positive", REQUIRED, "m", "slider width (guide marker's f axis)"),
     "length": Field("positive", REQUIRED, "m", "slider length (sliding axis h)"),
@@ -259,6 +278,13 @@ CLEARANCE_KINDS: Mapping[str, ClearanceKindSpec] = {
         RevoluteClearance,
         CYLINDRICAL_FIELDS,
         _JOURNAL_LAWS,
+        ("journal_material", "bearing_material"),
+        ("radial_clearance", "bearing_radius"),
+    ),
+    "universal": ClearanceKindSpec(
+        UniversalClearance,
+        UNIVERSAL_FIELDS,
+        {**_JOURNAL_LAWS, "thrust_normal": (NORMAL_LAWS, None)},
         ("journal_material", "bearing_material"),
         ("radial_clearance", "bearing_radius"),
     ),
