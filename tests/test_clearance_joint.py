@@ -358,7 +358,7 @@ def test_with_clearance_is_one_line_and_names_the_joints_that_can_have_clearance
     assert m.joints["S"].clearance is None  # the original is not mutated
     assert cl.compile_mechanism(m2).nclr == 1
     assert Clearance(ball_radius=RB, radial_clearance=C).c == C  # kept exactly
-    able = "expected the name of a spherical, revolute, cylindrical or prismatic joint"
+    able = "expected the name of a spherical, universal, revolute, cylindrical or prismatic joint"
     with pytest.raises(cl.ModelError, match=able):
         m.with_clearance("nope", Clearance(ball_radius=RB, radial_clearance=C))
 
