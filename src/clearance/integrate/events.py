@@ -278,11 +278,14 @@ def update_contacts(model, wk, cs, t, y, log, nlog):
         _pose_at(model, wk, b, y, True)
         _slides(model, wk, k, t)
         for p in range(model.clr_ix[k, CI_P0], model.clr_ix[k, CI_P0] + model.clr_ix[k, CI_NP]):
-            delta, ddot, n, _, _, _, _ = point_contact(
-                model, p, wk.bA, wk.br, wk.brd, wk.bw, wk.fval
-            )
+            # the gap alone (positions) decides; the rates and the normal only where needed
+            event = _wants(cs.flag[p], point_gap(model, p, wk.bA, wk.br, wk.fval))
+            lugre = cs.flag[p] == 1 and model.cp_ix[p, PI_FRIC] == _LUGRE
+            if not (event or lugre):
+                continue
+            _, ddot, n, _, _, _, _ = point_contact(model, p, wk.bA, wk.br, wk.brd, wk.bw, wk.fval)
             zi = iz + 3 * p
-            if _wants(cs.flag[p], delta):
+            if event:
                 if cs.flag[p] == 0:
                     cs.flag[p] = 1
                     cs.ddm[p] = max(ddot, model.clr_geo[k, CG_VFLOOR])
@@ -304,7 +307,7 @@ def update_contacts(model, wk, cs, t, y, log, nlog):
                     for a in range(3):
                         log[nlog, 4 + a] = e[a]
                 nlog += 1
-            elif cs.flag[p] == 1 and model.cp_ix[p, PI_FRIC] == _LUGRE:
+            else:  # LuGre in contact
                 zn = y[zi] * n[0] + y[zi + 1] * n[1] + y[zi + 2] * n[2]
                 zz = math.sqrt(y[zi] ** 2 + y[zi + 1] ** 2 + y[zi + 2] ** 2)
                 if abs(zn) > 1e-3 * zz:
