@@ -25,7 +25,7 @@ import math
 
 from numba import njit
 
-from clearance.contact.element import eccentricity, point_contact, point_gap
+from clearance.contact.element import eccentricity, gap_of, point_contact, point_gap
 from clearance.kinds import (
     CG_VFLOOR,
     CI_BB,
@@ -230,19 +230,18 @@ def locate_event(model, wk, cs, t, y, K, P, h):
         p0 = model.clr_ix[k, CI_P0]
         p1 = p0 + model.clr_ix[k, CI_NP]
         xlo = 0.0
-        _place(model, wk, k, t, y, K, P, h, 0.0)
-        for p in range(p0, p1):
-            d0[p] = point_gap(model, p, wk.bA, wk.br, wk.fval)
         found = False
         xhi = 1.0
-        for j in range(1, _NSAMPLE + 1):
+        # x = 0 (the step's start) then the interior samples; one call site of the inlined
+        # point_gap (each inlined copy costs seconds of cold compile)
+        for j in range(_NSAMPLE + 1):
             x = j / _NSAMPLE
-            if x >= xbest:
+            if j > 0 and x >= xbest:
                 break
             _place(model, wk, k, t, y, K, P, h, x)
             for p in range(p0, p1):
                 d1[p] = point_gap(model, p, wk.bA, wk.br, wk.fval)
-                if _wants(cs.flag[p], d1[p]):
+                if j > 0 and _wants(cs.flag[p], d1[p]):
                     found = True
             if found:
                 xhi = x
@@ -279,7 +278,7 @@ def update_contacts(model, wk, cs, t, y, log, nlog):
         _slides(model, wk, k, t)
         for p in range(model.clr_ix[k, CI_P0], model.clr_ix[k, CI_P0] + model.clr_ix[k, CI_NP]):
             # the gap alone (positions) decides; the rates and the normal only where needed
-            event = _wants(cs.flag[p], point_gap(model, p, wk.bA, wk.br, wk.fval))
+            event = _wants(cs.flag[p], gap_of(model, p, wk.bA, wk.br, wk.fval))
             lugre = cs.flag[p] == 1 and model.cp_ix[p, PI_FRIC] == _LUGRE
             if not (event or lugre):
                 continue
