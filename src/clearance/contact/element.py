@@ -97,9 +97,9 @@ def make_contact_state(model) -> ContactState:
 @njit(cache=True, inline="always", error_model="numpy")
 def point_gap(model, p, bA, br, fval):
     """delta of contact point p (positions only: bA, br of its two bodies set). Inlined:
-    the event probes call it ~10 times per accepted step, and called it costs twice the
-    probe (~0.45 us per call on the default scenario, with the model's arrays as
-    arguments); `gap_of` is the called form for the paths that are not hot."""
+    the event search probes it ~10 times per accepted step and, called, took twice as long
+    (default scenario: 9.6 us vs 5.0 us per step); `gap_of` is the called form for the
+    paths that are not hot."""
     k = model.cp_ix[p, PI_CLR]
     kind = model.cp_ix[p, PI_KIND]
     if kind == _SPHERE:
