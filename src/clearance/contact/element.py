@@ -111,13 +111,13 @@ def point_gap(model, p, bA, br, fval):
     return slider.corner_gap(model, p, k, bA, br, fval)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def gap_of(model, p, bA, br, fval):
     """`point_gap`, called (one inlined copy serves every caller that is not hot)."""
     return point_gap(model, p, bA, br, fval)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def point_contact(model, p, bA, br, brd, bw, fval):
     """(delta, delta_dot, n, arm_s, arm_b, u_s, u_b) of contact point p."""
     k = model.cp_ix[p, PI_CLR]
@@ -151,7 +151,7 @@ def eccentricity(model, k, bA, br, fval):
     return e, Pb
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _apply(model, y, wk, cs, ydot, p, geometry):
     """The common part of contact point p, given its geometry (delta, delta_dot, n, arm_s,
     arm_b, u_s, u_b; see the module docstring): diagnostics, normal law, friction, forces on
