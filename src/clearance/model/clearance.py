@@ -410,6 +410,12 @@ class PrismaticClearance:
         return 3 if self.model == "planar" else 0
 
 
+def pair_joint_name(universal: str, pair: str) -> str:
+    """Name of the revolute joint of pair "i" or "j" of an expanded universal joint
+    (`UniversalClearance`): "<universal>.<pair>"."""
+    return f"{universal}.{pair}"
+
+
 @dataclass(frozen=True)
 class UniversalClearance(RevoluteClearance):
     """A journal-in-bearing clearance in one revolute pair of a Universal joint.

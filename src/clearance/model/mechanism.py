@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from clearance.model.bodies import GROUND, Body, Marker
-from clearance.model.clearance import UniversalClearance
+from clearance.model.clearance import UniversalClearance, pair_joint_name
 from clearance.model.drivers import (
     DistanceDriver,
     OffsetDriver,
@@ -287,32 +287,32 @@ class Mechanism:
         b = b / np.linalg.norm(b)
         R = np.column_stack((a, b, np.cross(a, b)))  # cross frame: h_i, h_j, h_i x h_j
         cross = f"{jt.name}.cross"
-        try:
-            vel, w_c = self._point_velocity(jt.marker_i, P)
-            w_j = self._point_velocity(jt.marker_j, P)[1]
-            # the cross turns with yoke i plus a rate about h_i; yoke j with the cross plus a
-            # rate about h_j: w_j - w_i = u a + s b (least squares; exact for a consistent
-            # state of the universal joint)
-            (u, _), *_ = np.linalg.lstsq(np.column_stack((a, b)), w_j - w_c, rcond=None)
-            w_c = w_c + u * a
-            body = Body(cross, cl.cross_mass, cl.cross_inertia, tuple(P), R, tuple(vel), R.T @ w_c)
-        except ModelError as e:
-            raise ModelError(who, f"clearance.cross_{e.field}", e.value, e.allowed) from e
+        vel, w_c = self._point_velocity(jt.marker_i, P)
+        w_j = self._point_velocity(jt.marker_j, P)[1]
+        # the cross turns with yoke i plus a rate about h_i; yoke j with the cross plus a
+        # rate about h_j: w_j - w_i = u a + s b (least squares; exact for a consistent state
+        # of the universal joint). Mass and inertia were checked by UniversalClearance.
+        (u, _), *_ = np.linalg.lstsq(np.column_stack((a, b)), w_j - w_c, rcond=None)
+        w_c = w_c + u * a
+        body = Body(cross, cl.cross_mass, cl.cross_inertia, tuple(P), R, tuple(vel), R.T @ w_c)
         # cross markers: h along the pair's axis (cross x = h_i, y = h_j)
         mi = Marker(f"{jt.name}.cross_i", cross, orientation=np.eye(3)[:, [1, 2, 0]])
         mj = Marker(f"{jt.name}.cross_j", cross, orientation=np.eye(3)[:, [2, 0, 1]])
         rev = cl.revolute()
-        pairs = {
-            "i": Revolute(f"{jt.name}.i", jt.marker_i, mi.name),
-            "j": Revolute(f"{jt.name}.j", jt.marker_j, mj.name),
-        }
-        p = pairs[cl.pair]
-        pairs[cl.pair] = Revolute(p.name, p.marker_i, p.marker_j, clearance=rev)
+        pairs = [
+            Revolute(
+                pair_joint_name(jt.name, pair),
+                yoke,
+                trunnion.name,
+                clearance=rev if pair == cl.pair else None,
+            )
+            for pair, yoke, trunnion in (("i", jt.marker_i, mi), ("j", jt.marker_j, mj))
+        ]
         m = self.copy()
         m.joints = {}
         for name, other in self.joints.items():  # the new joints where the old one was
             if name == jt.name:
-                m.joints.update({p.name: p for p in pairs.values()})
+                m.joints.update({p.name: p for p in pairs})
             else:
                 m.joints[name] = other
         for e in (body, mi, mj):

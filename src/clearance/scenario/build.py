@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from clearance.mechanisms.ups_upu import home_leg_lengths, ups_upu_ideal
-from clearance.model.clearance import UniversalClearance
+from clearance.model.clearance import UniversalClearance, pair_joint_name
 from clearance.model.errors import ModelError
 from clearance.model.functions import Constant, Sinusoid, TimeFunction
 from clearance.model.mechanism import Mechanism
@@ -139,7 +139,7 @@ def _info(s: Scenario, mtype: MechanismType, home_height: float, **specific) -> 
     return BuildInfo(
         mechanism_type=mtype,
         clearance_joints=tuple(
-            f"{n}.{j.pair}" if isinstance(j, UniversalClearance) else n
+            pair_joint_name(n, j.pair) if isinstance(j, UniversalClearance) else n
             for n, j in s.clearance.joints.items()
         ),
         home_position=(0.0, 0.0, home_height),
