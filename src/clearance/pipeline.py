@@ -201,10 +201,9 @@ def place_balls_along_reaction(
     cb = compile_mechanism(mech)
     y = np.array(y_ideal[: cb.nq + cb.nv].tolist() + [0.0] * (cb.ny - cb.nq - cb.nv))
     y = assemble(cb, y)
-    c = compile_mechanism(clr)
-    out = np.zeros(c.ny)
-    out[: c.nq + c.nv] = y[: c.nq + c.nv]
-    return velocity_analysis(c, out)
+    out = np.zeros(c0.ny)
+    out[: c0.nq + c0.nv] = y[: c0.nq + c0.nv]
+    return velocity_analysis(c0, out)
 
 
 def _start_from(r_ideal: Result, cc: Compiled, ideal: Mechanism, s: Scenario) -> np.ndarray:
