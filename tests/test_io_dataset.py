@@ -313,3 +313,24 @@ def test_save_results_accepts_a_result(results, datasets, tmp_path):
     back = load_results(path)["ideal"]
     assert back.equals(datasets["ideal"])  # same variables, coordinates and values
     assert back.attrs["layout"] == datasets["ideal"].attrs["layout"]
+
+
+def test_npz_roundtrip_and_atomic_write(results, tmp_path, monkeypatch):
+    from clearance.io.npz import load_npz, save_npz
+
+    r = results["clearance"]
+    path = save_npz(r, tmp_path / "sub" / "r.npz")
+    z = load_npz(path)
+    for name in ("t", "q", "v", "lam", "reaction_force", "driver_force"):
+        np.testing.assert_array_equal(z[name], getattr(r, name))
+    assert z["meta"]["bodies"] == list(r.compiled.body_names)
+    before = path.read_bytes()
+
+    def failing(*args, **kw):
+        raise RuntimeError("disk full (simulated)")
+
+    monkeypatch.setattr(np, "savez_compressed", failing)
+    with pytest.raises(RuntimeError, match="simulated"):
+        save_npz(r, path)
+    assert path.read_bytes() == before  # the old file is intact, no temporary file left
+    assert sorted(os.listdir(path.parent)) == ["r.npz"]

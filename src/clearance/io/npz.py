@@ -8,18 +8,17 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from clearance.io.files import atomic_path
 from clearance.store.result import Result
 
 
 def save_npz(result: Result, path: str | os.PathLike) -> Path:
     """Write `result` to `path` (.npz) atomically; return the final path."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     c = result.compiled
     arrays = dict(
         t=result.t,
@@ -49,15 +48,8 @@ def save_npz(result: Result, path: str | os.PathLike) -> Path:
         },
         layout=c.describe(),
     )
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez_compressed(fh, meta=np.array(json.dumps(meta)), **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
+        np.savez_compressed(fh, meta=np.array(json.dumps(meta)), **arrays)
     return path
 
 
