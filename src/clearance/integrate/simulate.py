@@ -203,7 +203,7 @@ def simulate(
     out = Outputs(
         t_out=t_out,
         Y=prefaulted_zeros((t_out.size, c.ny)),
-        CS=np.zeros((t_out.size, c.ncp, 2)),
+        CS=prefaulted_zeros((t_out.size, c.ncp, 2)),  # per contact point: can be MBs
         log=np.zeros((max_events if c.nclr else 0, NLOG)),
         stats=np.zeros(NSTATS),
         PK=np.zeros((c.nclr, 4)),
