@@ -191,11 +191,10 @@ JOINT_FIELDS = {
     "velocity_floor": Field("positive", 1e-4, "m/s", "floor of delta_dot_minus"),
     "onset_tolerance": Field("positive", 1e-3, doc="onset penetration / c (< 0.5)"),
 }
-JOINT_TABLES = ("normal", "friction", "ball_material", "socket_material")
 MATERIAL_FIELDS = ("E", "nu")
 _COMMON = {
     "velocity_floor": JOINT_FIELDS["velocity_floor"],
-    "onset_tolerance": Field("positive", 1e-3, doc="onset penetration / clearance (< 0.5)"),
+    "onset_tolerance": JOINT_FIELDS["onset_tolerance"],
 }
 _MODEL = Field("choice", "planar", doc="planar or spatial model", choices=("planar", "spatial"))
 REVOLUTE_FIELDS = {
@@ -255,10 +254,12 @@ class ClearanceKindSpec:
         return (*self.laws, *self.materials)
 
 
-_JOURNAL_LAWS = {
+# journals and sliders: Lankarani-Nikravesh (Flores & Ambrosio 2004, Flores et al. 2008)
+_LN_LAWS = {
     "normal": (NORMAL_LAWS, LankaraniNikravesh()),
     "friction": (FRICTION_LAWS, NoFriction()),
 }
+_REVOLUTE_LAWS = {**_LN_LAWS, "thrust_normal": (NORMAL_LAWS, None)}
 CLEARANCE_KINDS: Mapping[str, ClearanceKindSpec] = {
     "spherical": ClearanceKindSpec(
         Clearance,
@@ -270,46 +271,32 @@ CLEARANCE_KINDS: Mapping[str, ClearanceKindSpec] = {
     "revolute": ClearanceKindSpec(
         RevoluteClearance,
         REVOLUTE_FIELDS,
-        {**_JOURNAL_LAWS, "thrust_normal": (NORMAL_LAWS, None)},
+        _REVOLUTE_LAWS,
         ("journal_material", "bearing_material"),
         ("radial_clearance", "bearing_radius"),
     ),
     "cylindrical": ClearanceKindSpec(
         RevoluteClearance,
         CYLINDRICAL_FIELDS,
-        _JOURNAL_LAWS,
+        _LN_LAWS,
         ("journal_material", "bearing_material"),
         ("radial_clearance", "bearing_radius"),
     ),
     "universal": ClearanceKindSpec(
         UniversalClearance,
         UNIVERSAL_FIELDS,
-        {**_JOURNAL_LAWS, "thrust_normal": (NORMAL_LAWS, None)},
+        _REVOLUTE_LAWS,
         ("journal_material", "bearing_material"),
         ("radial_clearance", "bearing_radius"),
     ),
     "prismatic": ClearanceKindSpec(
         PrismaticClearance,
         PRISMATIC_FIELDS,
-        {
-            "normal": (NORMAL_LAWS, LankaraniNikravesh()),
-            "friction": (FRICTION_LAWS, NoFriction()),
-        },
+        _LN_LAWS,
         ("slider_material", "guide_material"),
         None,
     ),
 }
-
-
-def clearance_kind_name(clr: object, joint_kind: str | None = None) -> str:
-    """The file name of a clearance's kind ("cylindrical" for a RevoluteClearance of a
-    cylindrical joint, given as joint_kind)."""
-    if isinstance(clr, RevoluteClearance) and joint_kind == "cylindrical":
-        return "cylindrical"
-    for name, spec in CLEARANCE_KINDS.items():
-        if type(clr) is spec.cls:
-            return name
-    raise TypeError(f"not a clearance: {clr!r}")
 
 
 SOLVER_FIELDS = {
