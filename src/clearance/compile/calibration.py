@@ -15,6 +15,11 @@ from clearance.contact.laws import winkler_fel, winkler_kn
 from clearance.model.errors import ModelError
 
 
+def effective_modulus(E_a: float, nu_a: float, E_b: float, nu_b: float) -> float:
+    """E* [Pa] of two elastic bodies in contact: 1/E* = (1 - nu_a^2)/E_a + (1 - nu_b^2)/E_b."""
+    return 1.0 / ((1.0 - nu_a**2) / E_a + (1.0 - nu_b**2) / E_b)
+
+
 def hertz_stiffness(
     E_ball: float, nu_ball: float, E_socket: float, nu_socket: float, R_ball: float, R_socket: float
 ) -> float:
@@ -30,7 +35,7 @@ def hertz_stiffness(
         raise ModelError(
             "hertz_stiffness", "R_socket", R_socket, f"must exceed R_ball = {R_ball!r} > 0"
         )
-    e_star = 1.0 / ((1.0 - nu_ball**2) / E_ball + (1.0 - nu_socket**2) / E_socket)
+    e_star = effective_modulus(E_ball, nu_ball, E_socket, nu_socket)
     r_star = R_ball if math.isinf(R_socket) else R_ball * R_socket / (R_socket - R_ball)
     return 4.0 / 3.0 * e_star * math.sqrt(r_star)
 

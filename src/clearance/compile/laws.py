@@ -22,7 +22,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from clearance.compile.calibration import hertz_stiffness, kelvin_voigt_damping, winkler_kf
+from clearance.compile.calibration import (
+    effective_modulus,
+    hertz_stiffness,
+    kelvin_voigt_damping,
+    winkler_kf,
+)
 from clearance.contact.laws import hysteresis_factor
 from clearance.kinds import NPAR, FrictionLaw, NormalLaw
 from clearance.model.contact_laws import (
@@ -89,11 +94,16 @@ def _stiffness(law: NormalContactLaw, g: ContactGeometry) -> float:
     k = getattr(law, "stiffness", None)
     if k is not None:
         return float(k)
+    a, b = _materials(law, g)
+    return hertz_stiffness(a.E, a.nu, b.E, b.nu, g.R_inner, g.R_outer)
+
+
+def _materials(law, g: ContactGeometry) -> tuple[Material, Material]:
+    """(inner, outer) materials of the geometry, checked."""
     for name, m in (("ball_material", g.inner_material), ("socket_material", g.outer_material)):
         if not isinstance(m, Material):
             raise ModelError(type(law).__name__, name, m, "expected a Material(E, nu)")
-    a, b = g.inner_material, g.outer_material
-    return hertz_stiffness(a.E, a.nu, b.E, b.nu, g.R_inner, g.R_outer)
+    return g.inner_material, g.outer_material
 
 
 def _hertz(law: Hertz, g: ContactGeometry) -> np.ndarray:
@@ -136,8 +146,8 @@ def _modulus(law, g: ContactGeometry) -> float:
     """E* [Pa]: the law's modulus or 1/E* = sum (1 - nu^2)/E of the two materials."""
     if law.modulus is not None:
         return float(law.modulus)
-    a, b = g.inner_material, g.outer_material
-    return 1.0 / ((1.0 - a.nu**2) / a.E + (1.0 - b.nu**2) / b.E)
+    a, b = _materials(law, g)
+    return effective_modulus(a.E, a.nu, b.E, b.nu)
 
 
 def _line(law, g: ContactGeometry) -> tuple[float, float, float, float]:
