@@ -96,8 +96,9 @@ def _radii(obj: object, who: str, inner: str, outer: str) -> None:
                 f"give exactly one of {outer} and radial_clearance (or both agreeing: "
                 f"{outer} - {inner} = {ro - ri!r} != radial_clearance = {c!r})",
             )
-        c_given = None if obj.given == outer else c_given  # type: ignore[attr-defined]
-        ro_given = None if c_given is not None else ro_given
+        # `given` cannot survive the copy (an init=False field is reset to its default
+        # before __post_init__): the clearance, kept exactly, is recorded as given
+        ro_given = None
     if (ro_given is None) == (c_given is None):
         raise ModelError(who, outer, ro_given, f"give exactly one of {outer} and radial_clearance")
     if ro_given is not None:
