@@ -115,6 +115,13 @@ class Columns:
     def cols(self) -> slice:
         return slice(self.start, self.start + self.width)
 
+    def take(self, data):
+        """The dataset's values of this group in a diagnostic array (..., ncols): its
+        columns times `sign`, without the last axis for a width-1 group."""
+        x = data[..., self.cols]
+        x = x if self.sign == 1.0 else self.sign * x
+        return x[..., 0] if self.width == 1 else x
+
 
 def _table(*groups: Columns) -> tuple[tuple[Columns, ...], int]:
     out, k = [], 0

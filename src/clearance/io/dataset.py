@@ -244,12 +244,8 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
     br = result.bristle if result.bristle is not None else np.zeros((n, ncp, 3))
     for table, data, dim in ((JOINT_COLUMNS, co, "clearance"), (POINT_COLUMNS, po, "contact")):
         for col in table:
-            x = data[:, :, col.cols]
-            x = x if col.sign == 1.0 else col.sign * x
             dims = ("time", dim, "axis") if col.width == 3 else ("time", dim)
-            dv[col.name] = _var(
-                dims, x if col.width == 3 else x[:, :, 0], col.units, col.long_name, col.description
-            )
+            dv[col.name] = _var(dims, col.take(data), col.units, col.long_name, col.description)
     tc, tp = ("time", "clearance"), ("time", "contact")
     flag = cs[:, :, 0]
     if np.array_equal(flag, flag.astype(np.int8)):

@@ -153,9 +153,7 @@ class Result:
                 if col.name == channel:
                     if name not in names:
                         raise KeyError(f"no element named {name!r}; known: {list(names)}")
-                    x = data[:, names.index(name), col.cols]
-                    x = x if col.sign == 1.0 else col.sign * x
-                    return x[:, 0] if col.width == 1 else x
+                    return col.take(data[:, names.index(name)])
         known = [c.name for c in JOINT_COLUMNS + POINT_COLUMNS]
         raise KeyError(f"no output channel {channel!r}; channels: {known}")
 
@@ -231,8 +229,8 @@ class Result:
         ev = ev[ev[:, EV_KIND] > 0]
         if name is not None:
             self._c(name)
-            joint = np.array([self.contact_point_joints[int(p)] == name for p in ev[:, EV_POINT]])
-            ev = ev[joint.astype(bool)] if ev.size else ev
+            own = [p for p, j in enumerate(self.contact_point_joints) if j == name]
+            ev = ev[np.isin(ev[:, EV_POINT], own)]
         return ev
 
     def summary(self) -> str:
