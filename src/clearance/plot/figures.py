@@ -234,21 +234,13 @@ def plot_ball_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> Figu
         # the in-contact stretches as one red path with breaks (NaN) between them: a dot per
         # sample in contact (~19 000 of 20 001 in the default scenario) made 0.8 MB PDFs;
         # a contact seen by one sample only has no stretch to draw: a dot marks it
-        ec, alone = _contact_path(e, on)
-        ax3.plot(e[:, 0], e[:, 1], e[:, 2], label=name, **st)
-        ax3.plot(ec[:, 0], ec[:, 1], ec[:, 2], "-", color="C3", linewidth=1.6, label="_")
-        ax3.plot(*e[alone].T, ".", color="C3", markersize=3, label="_")
+        _trace(ax3, e, on, name, st)
         for ax, i0, i1 in proj:
-            ax.plot(e[:, i0], e[:, i1], label=name, **st)
-            ax.plot(ec[:, i0], ec[:, i1], "-", color="C3", linewidth=1.6, label="_")
-            ax.plot(e[alone, i0], e[alone, i1], ".", color="C3", markersize=3, label="_")
+            _trace(ax, e[:, [i0, i1]], on, name, st)
             if e.shape[0]:
                 ax.plot(e[0, i0], e[0, i1], "o", color=st["color"], markersize=4, mfc="none")
     for ax, i0, i1 in proj:
-        ax.add_patch(Circle((0, 0), c, fill=False, color="0.4", linestyle="--", linewidth=0.8))
-        ax.set_xlim(-lim, lim)
-        ax.set_ylim(-lim, lim)
-        ax.set_aspect("equal")
+        _clearance_circle(ax, c)
         ax.set_xlabel(f"$e_{AXES[i0]}$ [mm]")
         ax.set_ylabel(f"$e_{AXES[i1]}$ [mm]")
     for setlim in (ax3.set_xlim, ax3.set_ylim, ax3.set_zlim):
@@ -259,9 +251,7 @@ def plot_ball_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> Figu
     ax3.set_zlabel("$e_z$ [mm]", labelpad=-4)
     fig.get_layout_engine().set(w_pad=0.15, wspace=0.12)
     ax3.tick_params(labelsize=7, pad=0)
-    proj[0][0].plot([], [], "-", color="C3", linewidth=1.6, label="in contact")
-    proj[0][0].plot([], [], "--", color="0.4", label=f"clearance c = {c:.3g} mm")
-    proj[0][0].legend(loc="upper right", frameon=True, fontsize=7, framealpha=0.8)
+    _contact_legend(proj[0][0], "in contact", f"clearance c = {c:.3g} mm")
     fig.suptitle(f"Ball centre in the socket of {joint} (socket frame)", fontsize=10)
     return fig
 
@@ -275,6 +265,31 @@ def _contact_path(e: np.ndarray, on: np.ndarray) -> tuple[np.ndarray, np.ndarray
     ec = np.where(on[:, None], e, np.nan)
     alone = on & ~np.r_[False, on[:-1]] & ~np.r_[on[1:], False]
     return ec, alone
+
+
+def _trace(ax, x: np.ndarray, on: np.ndarray, name: str, st: dict) -> None:
+    """A run's path x (n, 2 or 3 plotted coordinates) with its in-contact stretches in red
+    (one line with NaN breaks, see `_contact_path`) and its one-sample contacts as dots."""
+    ec, alone = _contact_path(x, on)
+    ax.plot(*x.T, label=name, **st)
+    ax.plot(*ec.T, "-", color="C3", linewidth=1.6, label="_")
+    ax.plot(*x[alone].T, ".", color="C3", markersize=3, label="_")
+
+
+def _clearance_circle(ax, c: float) -> None:
+    """The clearance circle of radius c, dashed, in equal axes of half-width 1.15 c."""
+    ax.add_patch(Circle((0, 0), c, fill=False, color="0.4", linestyle="--", linewidth=0.8))
+    lim = 1.15 * c
+    ax.set_xlim(-lim, lim)
+    ax.set_ylim(-lim, lim)
+    ax.set_aspect("equal")
+
+
+def _contact_legend(ax, contact: str, clearance: str) -> None:
+    """Legend of the runs plus keys for the red in-contact path and the dashed clearance."""
+    ax.plot([], [], "-", color="C3", linewidth=1.6, label=contact)
+    ax.plot([], [], "--", color="0.4", label=clearance)
+    ax.legend(loc="upper right", frameon=True, fontsize=7, framealpha=0.8)
 
 
 def _joint_runs(datasets: Mapping[str, xr.Dataset], joint: str) -> list[tuple[str, xr.Dataset]]:
@@ -303,22 +318,13 @@ def plot_journal_trajectory(datasets: Mapping[str, xr.Dataset], joint: str) -> F
         e = ecc[name]
         on = ds["penetration"].sel(clearance=joint).values > 0
         st = {k: v for k, v in sty[name].items() if k != "zorder"}
-        ec, alone = _contact_path(e, on)
-        ax.plot(e[:, 0], e[:, 1], label=name, **st)
-        ax.plot(ec[:, 0], ec[:, 1], "-", color="C3", linewidth=1.6, label="_")
-        ax.plot(e[alone, 0], e[alone, 1], ".", color="C3", markersize=3, label="_")
+        _trace(ax, e[:, :2], on, name, st)
         if axh is not None:
             axh.plot(ds["time"].values, e[:, 2], label=name, **st)
-    ax.add_patch(Circle((0, 0), c, fill=False, color="0.4", linestyle="--", linewidth=0.8))
-    lim = 1.15 * c
-    ax.set_xlim(-lim, lim)
-    ax.set_ylim(-lim, lim)
-    ax.set_aspect("equal")
+    _clearance_circle(ax, c)
     ax.set_xlabel("$e_f$ [mm]")
     ax.set_ylabel("$e_g$ [mm]")
-    ax.plot([], [], "-", color="C3", linewidth=1.6, label="in contact")
-    ax.plot([], [], "--", color="0.4", label=f"clearance c = {c:.3g} mm")
-    ax.legend(loc="upper right", frameon=True, fontsize=7, framealpha=0.8)
+    _contact_legend(ax, "in contact", f"clearance c = {c:.3g} mm")
     if axh is not None:
         axh.set_xlabel("time [s]")
         axh.set_ylabel("axial offset $e_h$ [mm]")
@@ -347,17 +353,14 @@ def plot_slider_offset(datasets: Mapping[str, xr.Dataset], joint: str) -> Figure
         t = ds["time"].values
         st = {k: v for k, v in sty[name].items() if k != "zorder"}
         for ax, k in zip(axs, (0, 1), strict=False):
-            ec, alone = _contact_path(np.column_stack([t, e[:, k]]), on)
-            ax.plot(t, e[:, k], label=name, **st)
-            ax.plot(ec[:, 0], ec[:, 1], "-", color="C3", linewidth=1.6, label="_")
-            ax.plot(t[alone], e[alone, k], ".", color="C3", markersize=3, label="_")
+            _trace(ax, np.column_stack([t, e[:, k]]), on, name, st)
     for ax, lab in zip(axs, ("$e_f$ (width)", "$e_g$ (height)"), strict=False):
         for sgn in (-1, 1):
             ax.axhline(sgn * c, color="0.4", linestyle="--", linewidth=0.8)
         ax.set_ylabel(f"{lab} [mm]")
-    axs[0].plot([], [], "-", color="C3", linewidth=1.6, label="joint in contact (any corner)")
-    axs[0].plot([], [], "--", color="0.4", label=f"clearance {c:.3g} mm (centre offset)")
-    axs[0].legend(loc="upper right", frameon=True, fontsize=7, framealpha=0.8)
+    _contact_legend(
+        axs[0], "joint in contact (any corner)", f"clearance {c:.3g} mm (centre offset)"
+    )
     axs[-1].set_xlabel("time [s]")
     fig.suptitle(f"Slider centre in the guide of {joint} (guide frame)", fontsize=10)
     return fig
