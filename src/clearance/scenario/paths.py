@@ -65,13 +65,17 @@ def _get(d: object, key: str) -> object:
     return d.get(key, MISSING) if isinstance(d, Mapping) else MISSING
 
 
+def _mechanism_kind(d: Mapping):
+    """The MechanismKind of document d's mechanism.type, or None if it names none."""
+    mtype = _get(_get(d, "mechanism"), "type")
+    if mtype not in [m.value for m in MechanismType]:
+        return None
+    return MECHANISMS.get(MechanismType(mtype))
+
+
 def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
     """Keys the format allows below the table at `keys` of document d (None: a leaf)."""
-    mech = _get(d, "mechanism")
-    mtype = _get(mech, "type")
-    kind = (
-        MECHANISMS.get(MechanismType(mtype)) if mtype in [m.value for m in MechanismType] else None
-    )
+    kind = _mechanism_kind(d)
     n = len(keys)
     if n == 0:
         return TOP_KEYS
@@ -135,10 +139,10 @@ def _radii(d: Mapping, parts: list) -> tuple[str, ...]:
     """The exclusive radius pair of the joint at clearance.joints.<J>.<field>, or ()."""
     if len(parts) != 4 or parts[:2] != ["clearance", "joints"]:
         return ()
-    mtype = _get(_get(d, "mechanism"), "type")
-    if mtype not in [m.value for m in MechanismType]:
+    kind = _mechanism_kind(d)
+    if kind is None:
         return ()
-    spec = CLEARANCE_KINDS.get(MECHANISMS[MechanismType(mtype)].clearance_joints.get(parts[2], ""))
+    spec = CLEARANCE_KINDS.get(kind.clearance_joints.get(parts[2], ""))
     return spec.radii if spec is not None and spec.radii is not None else ()
 
 
