@@ -635,7 +635,7 @@ def compile_mechanism(mech: Mechanism) -> Compiled:
     for a in model:
         if isinstance(a, np.ndarray):
             a.setflags(write=False)
-    y0 = np.zeros(StateLayout(nb, clr["ncp"], clr["nclr"]).ny)
+    y0 = np.zeros(model.y_ny)
     for k, bd in enumerate(bodies):
         y0[7 * k : 7 * k + 3] = bd.position
         y0[7 * k + 3 : 7 * k + 7] = bd.orientation
