@@ -334,3 +334,73 @@ def test_npz_roundtrip_and_atomic_write(results, tmp_path, monkeypatch):
         save_npz(r, path)
     assert path.read_bytes() == before  # the old file is intact, no temporary file left
     assert sorted(os.listdir(path.parent)) == ["r.npz"]
+
+
+# ----------------------------------------------------------------------------- output groups
+LEAN_VARS = {
+    "position",
+    "euler_parameters",
+    "velocity",
+    "angular_velocity",
+    "acceleration",
+    "angular_acceleration",
+    "actuator_force",
+    "energy_kinetic",
+    "energy_residual",
+    "contact_force",
+    "eccentricity",
+    "normal_force",
+    "friction_force",
+    "contact_flag",
+    "peak_contact_force",
+    "event_time",
+}
+
+
+def test_lean_outputs_hold_what_was_asked_for_and_equal_the_full_dataset(results, datasets):
+    """The lean default holds the platform, actuators, energy and every clearance channel,
+    each equal to the full dataset's values; bodies, multipliers, reactions and one-point
+    contact-point channels are left out; the stored groups are stated in the file."""
+    from clearance.io.dataset import stored_outputs
+    from clearance.io.outputs import LEAN, resolve_outputs
+
+    full = datasets["clearance"]
+    lean = result_to_dataset(results["clearance"], outputs=LEAN, bodies=("platform",))
+    assert stored_outputs(lean) == frozenset(LEAN) == resolve_outputs()
+    assert stored_outputs(full) == resolve_outputs(["all"])
+    assert LEAN_VARS <= set(lean.data_vars)
+    for gone in (
+        "multiplier",
+        "constraint_violation",
+        "reaction_force",
+        "angular_velocity_body",
+        "point_penetration",
+    ):
+        assert gone in full and gone not in lean
+    assert list(lean["body"].values) == ["platform"]
+    for k in lean.variables:
+        sel = {"body": ["platform"]} if "body" in lean[k].dims else {}
+        np.testing.assert_array_equal(lean[k].values, full[k].sel(sel).values, err_msg=k)
+    with pytest.raises(ValueError, match="bodies, contact_points, multipliers, reactions"):
+        dataset_to_arrays(lean)
+
+
+def test_opt_in_outputs_and_their_validation(results):
+    r = results["clearance"]
+    ds = result_to_dataset(r, outputs=("reactions", "multipliers"))
+    assert {"reaction_force", "multiplier"} <= set(ds.data_vars)
+    assert "position" not in ds.data_vars and ds.sizes["body"] == 0
+    assert "row" in ds.coords and "block" in ds.coords and "driver_row" not in ds.coords
+    with pytest.raises(ValueError, match="unknown output 'forces'.*allowed: platform"):
+        result_to_dataset(r, outputs=("forces",))
+    with pytest.raises(ValueError, match="no body named 'plattform'"):
+        result_to_dataset(r, outputs=("platform",), bodies=("plattform",))
+
+
+def test_lazy_load_reads_on_use(saved, datasets):
+    with load_results(saved, lazy=True) as files:
+        ds = files["clearance"]
+        assert not ds["position"].variable._in_memory
+        np.testing.assert_array_equal(ds["position"].values, datasets["clearance"]["position"])
+    eager = load_results(saved)
+    assert eager["clearance"]["position"].variable._in_memory

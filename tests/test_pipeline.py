@@ -143,6 +143,30 @@ def test_universal_pair_clearance_runs_from_the_ideal_start(tmp_path):
     assert np.linalg.norm(r.eccentricity("U_1.i")[0]) < 1e-9
 
 
+def test_run_writes_the_lean_default_and_the_outputs_asked_for(ups, tmp_path):
+    """Default file: the platform, actuators, energy and clearance channels at full
+    resolution, equal to the results in memory; `outputs` adds groups."""
+    data = load_results(ups.files[0])
+    for g, r in (("ideal", ups.ideal), ("clearance", ups.clearance)):
+        ds = data[g]
+        assert list(ds["body"].values) == ["platform"] and ds.sizes["time"] == r.t.size
+        assert "multiplier" not in ds and "reaction_force" not in ds
+        np.testing.assert_array_equal(ds["position"].values[:, 0], r.position("platform"))
+        np.testing.assert_array_equal(ds["actuator_force"].values, r.driver_force)
+    np.testing.assert_array_equal(
+        data["clearance"]["contact_force"].sel(clearance="S_1").values,
+        ups.clearance.contact_force("S_1"),
+    )
+    s = short("ups_upu", **{"trajectory.duration": 0.01, "output.outputs": ["reactions"]})
+    o = run_scenario(s, out_dir=tmp_path, log=None)
+    ds = load_results(o.files[0])["clearance"]
+    np.testing.assert_array_equal(ds["reaction_force"].values, o.clearance.reaction_force)
+    assert "multiplier" not in ds
+    o = run_scenario(s, out_dir=tmp_path / "all", outputs=("all",), log=None)
+    ds = load_results(o.files[0])["clearance"]
+    assert ds.sizes["body"] == len(o.clearance.compiled.body_names) and "multiplier" in ds
+
+
 def test_sps_cu_scenario_runs_lumped(tmp_path):
     o = run_scenario(short("sps_cu"), out_dir=tmp_path, log=None)
     assert o.ideal.success and o.clearance.success
@@ -155,9 +179,14 @@ def test_cli_run_plot_export(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text(scenario_to_toml(s))
     runner = CliRunner()
-    r = runner.invoke(app, ["run", str(path), "--out", str(tmp_path / "o")])
+    r = runner.invoke(app, ["run", str(path), "--out", str(tmp_path / "o"), "--timings"])
     assert r.exit_code == 0, r.output
     assert "summary of" in r.output and "S_1: peak F_N" in r.output
+    for stage in ("inverse_kinematics", "clearance", "write", "figures", "total"):
+        assert f"\n  {stage} " in r.output, stage
+    assert not list((tmp_path / "o" / "figures").glob("*.pdf"))  # only the format asked for
+    r = runner.invoke(app, ["run", str(path), "--outputs", "bodies,forces"])
+    assert r.exit_code == 2 and "unknown output 'forces'" in r.output
     nc = tmp_path / "o" / f"{s.name}.nc"
     assert nc.exists() and (tmp_path / "o" / "figures" / "contact_force.png").exists()
     r = runner.invoke(app, ["plot", str(nc), "--out", str(tmp_path / "f2"), "--format", "png"])

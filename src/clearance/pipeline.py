@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -23,6 +24,7 @@ from clearance.analysis.assembly import assemble, velocity_analysis
 from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
 from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.integrate.simulate import initial_state, simulate
+from clearance.io.outputs import resolve_outputs
 from clearance.model.bodies import Marker, quaternion_to_rotation
 from clearance.model.clearance import Clearance
 from clearance.model.drivers import OffsetDriver
@@ -248,111 +250,183 @@ def _with_lumped_actuator_forces(r: Result, s: Scenario) -> Result:
     return replace(r, driver_force=F, driver_names=tuple(f"drive_{k}" for k in range(1, 5)))
 
 
+class StageTimer(dict):
+    """Wall time per stage [s]: `with timer("write"): ...` adds to timer["write"]."""
+
+    @contextmanager
+    def __call__(self, stage: str):
+        t0 = time.perf_counter()
+        try:
+            yield
+        finally:
+            self[stage] = self.get(stage, 0.0) + time.perf_counter() - t0
+
+
+# the stages of `run_scenario`, in order (RunOutput.timings keys besides "total")
+STAGES = (
+    "build",
+    "inverse_kinematics",
+    "kernels",
+    "ideal",
+    "clearance",
+    "summary",
+    "datasets",
+    "write",
+    "export",
+    "figures",
+)
+
+
+def run_outputs(s: Scenario, extra: tuple[str, ...] | None, comp: Compiled) -> frozenset:
+    """The output groups a run of `s` writes: the lean default, the scenario's [output]
+    outputs (or `extra` when given) and per-point channels where a joint has several."""
+    joints = [p.joint for p in comp.contact_points]
+    several = len(set(joints)) < len(joints)
+    return resolve_outputs(s.output.outputs if extra is None else extra, several_points=several)
+
+
 def run_scenario(
     scenario: Scenario | str | Path | None = None,
     *,
     out_dir: str | Path | None = None,
     figures: bool | None = None,
+    outputs: tuple[str, ...] | None = None,
     log: Callable[[str], None] | None = print,
 ) -> RunOutput:
     """Run a scenario (default: the shipped 4UPS-UPU one) and write its outputs.
 
     out_dir: output folder (default: the scenario's [output] folder). figures: override the
-    scenario's [output] figures flag. log: progress messages (None: silent).
+    scenario's [output] figures flag. outputs: result groups written besides the lean
+    default (`clearance.io.outputs`; default: the scenario's [output] outputs).
+    log: progress messages (None: silent).
     A run that fails part-way keeps and writes what it computed; its status says why.
+    `RunOutput.timings` holds the wall time of each stage (`STAGES`) and the total.
     """
-    from clearance.io.dataset import save_results
     from clearance.scenario import default_scenario_path
 
     t_all = time.perf_counter()
+    timer = StageTimer()
     if scenario is None:
         scenario = default_scenario_path()
-    s = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
-    out = Path(out_dir if out_dir is not None else s.output.folder)
-    timings: dict = {}
-    _say(log, f"[1/5] building '{s.name}' ({s.mechanism.type.value})")
-    ideal, clr, info = build_mechanisms(s)
-    t0 = time.perf_counter()
-    t_end = info.t_end
-    n_ik = max(2, int(round(t_end / IK_SPACING)) + 1)
-    times = np.linspace(0.0, t_end, n_ik)
-    _say(log, f"[2/5] inverse kinematics: {n_ik} poses over {t_end:g} s")
-    ik = inverse_kinematics(
-        info.ik_mechanism or ideal,
-        info.platform_trajectory(),
-        platform_marker=info.platform_marker,
-        actuators=info.actuators,
-        times=times,
-    )
-    ideal, clr, info = build_mechanisms(s, drives=drives_from_ik(ik))
-    timings["inverse_kinematics"] = time.perf_counter() - t0
+    with timer("build"):
+        s = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+        out = Path(out_dir if out_dir is not None else s.output.folder)
+        _say(log, f"[1/5] building '{s.name}' ({s.mechanism.type.value})")
+        ideal, clr, info = build_mechanisms(s)
+    with timer("inverse_kinematics"):
+        t_end = info.t_end
+        n_ik = max(2, int(round(t_end / IK_SPACING)) + 1)
+        times = np.linspace(0.0, t_end, n_ik)
+        _say(log, f"[2/5] inverse kinematics: {n_ik} poses over {t_end:g} s")
+        ik = inverse_kinematics(
+            info.ik_mechanism or ideal,
+            info.platform_trajectory(),
+            platform_marker=info.platform_marker,
+            actuators=info.actuators,
+            times=times,
+        )
+        ideal, clr, info = build_mechanisms(s, drives=drives_from_ik(ik))
     _say(
         log,
         f"      drive Jacobian: min sigma {ik.min_sigma:.3g}, max condition {ik.max_condition:.3g}",
     )
     kw = dict(info.simulate_kwargs)
-    ci = compile_mechanism(ideal)
-    cc = compile_mechanism(clr)
-    # load (or, on a fresh install, build once) the compiled kernel before the timed runs, so
-    # the reported wall times and real-time factors are integration only
-    t0 = time.perf_counter()
-    for c in (ci, cc):
-        simulate(
-            c,
-            1e-9,
-            t_out=np.array([0.0, 1e-9]),
-            **{k: v for k, v in kw.items() if k not in ("dt_out", "t_out")},
-        )
-    timings["compile"] = time.perf_counter() - t0
-    if timings["compile"] > 2.0:
-        _say(log, f"      compiled the kernel in {timings['compile']:.0f} s (cached from now on)")
-    t0 = time.perf_counter()
-    _say(log, "[3/5] ideal mechanism")
-    r_ideal = simulate(ci, t_end, **kw)
-    timings["ideal"] = time.perf_counter() - t0
+    with timer("kernels"):
+        ci = compile_mechanism(ideal)
+        cc = compile_mechanism(clr)
+        # load (or, on a fresh install, build once) the compiled kernel before the timed
+        # runs, so the reported wall times and real-time factors are integration only
+        for c in (ci, cc):
+            simulate(
+                c,
+                1e-9,
+                t_out=np.array([0.0, 1e-9]),
+                **{k: v for k, v in kw.items() if k not in ("dt_out", "t_out")},
+            )
+    if timer["kernels"] > 2.0:
+        _say(log, f"      compiled the kernel in {timer['kernels']:.0f} s (cached from now on)")
+    with timer("ideal"):
+        _say(log, "[3/5] ideal mechanism")
+        r_ideal = simulate(ci, t_end, **kw)
     _say(log, f"      {r_ideal.message}; wall {r_ideal.stats['wall_time']:.3f} s")
-    t0 = time.perf_counter()
-    _say(
-        log,
-        f"[4/5] clearance mechanism ({', '.join(info.clearance_joints)}; initial "
-        f"placement {s.clearance.initial.value})",
-    )
-    y0 = None
-    if r_ideal.t.size:
-        y0 = _start_from(r_ideal, cc, ideal, s)
-        if s.clearance.initial == InitialPlacement.REACTION:
-            y0 = place_balls_along_reaction(clr, r_ideal, y0, info.clearance_joints)
-    r_clr = simulate(cc, t_end, y0=y0, **kw)
-    timings["clearance"] = time.perf_counter() - t0
+    with timer("clearance"):
+        _say(
+            log,
+            f"[4/5] clearance mechanism ({', '.join(info.clearance_joints)}; initial "
+            f"placement {s.clearance.initial.value})",
+        )
+        y0 = None
+        if r_ideal.t.size:
+            y0 = _start_from(r_ideal, cc, ideal, s)
+            if s.clearance.initial == InitialPlacement.REACTION:
+                y0 = place_balls_along_reaction(clr, r_ideal, y0, info.clearance_joints)
+        r_clr = simulate(cc, t_end, y0=y0, **kw)
     _say(log, f"      {r_clr.message}; wall {r_clr.stats['wall_time']:.3f} s")
-    r_ideal, r_clr = (_with_lumped_actuator_forces(r, s) for r in (r_ideal, r_clr))
-    summary = summarize(r_ideal, r_clr, info.platform_body)
+    with timer("summary"):
+        r_ideal, r_clr = (_with_lumped_actuator_forces(r, s) for r in (r_ideal, r_clr))
+        summary = summarize(r_ideal, r_clr, info.platform_body)
     _say(log, "[5/5] writing results")
-    attrs = {
+    files = write_outputs(
+        s,
+        {"ideal": r_ideal, "clearance": r_clr},
+        out,
+        attrs={"ik_min_sigma": ik.min_sigma, "ik_max_condition": ik.max_condition},
+        groups=run_outputs(s, outputs, cc),
+        platform=info.platform_body,
+        figures=s.output.figures if figures is None else figures,
+        timer=timer,
+    )
+    timer["total"] = time.perf_counter() - t_all
+    timer["compile"] = timer["kernels"]  # the name before 0.2
+    return RunOutput(s, r_ideal, r_clr, ik, summary, files, dict(timer))
+
+
+def write_outputs(
+    s: Scenario,
+    runs: dict[str, Result],
+    out: Path,
+    *,
+    attrs: dict,
+    groups: frozenset,
+    platform: str,
+    figures: bool,
+    timer: StageTimer | None = None,
+) -> list[Path]:
+    """The files of a scenario run: the NetCDF result (the output `groups`, the scenario
+    and version in the attributes), the exports its [output] formats ask for and, with
+    `figures`, the figures in its figure format, drawn from the datasets in memory."""
+    from clearance.io.dataset import result_to_dataset, save_results
+
+    timer = timer if timer is not None else StageTimer()
+    with timer("datasets"):
+        ds = {k: result_to_dataset(r, outputs=groups, bodies=(platform,)) for k, r in runs.items()}
+    root = {
         "scenario": scenario_to_toml(s),
         "scenario_name": s.name,
         "scenario_source": str(s.source),
         "clearance_version": clearance.__version__,
-        "ik_min_sigma": ik.min_sigma,
-        "ik_max_condition": ik.max_condition,
+        **attrs,
     }
-    files = [
-        save_results(out / f"{s.name}.nc", {"ideal": r_ideal, "clearance": r_clr}, attrs=attrs)
-    ]
-    if "csv" in s.output.formats or "mat" in s.output.formats:
-        from clearance.io.export import export_csv, export_mat
+    with timer("write"):
+        files = [save_results(out / f"{s.name}.nc", ds, attrs=root)]
+    with timer("export"):
+        fmts = s.output.formats
+        if "csv" in fmts or "mat" in fmts:
+            from clearance.io.export import export_csv, export_mat
 
-        if "csv" in s.output.formats:
-            files += export_csv(files[0], out)
-        if "mat" in s.output.formats:
-            files.append(export_mat(files[0], out / f"{s.name}.mat"))
-    if s.output.figures if figures is None else figures:
-        from clearance.io.dataset import load_results
+            if "csv" in fmts:
+                files += export_csv(files[0], out)
+            if "mat" in fmts:
+                files.append(export_mat(files[0], out / f"{s.name}.mat"))
+        if "npz" in fmts:
+            from clearance.io.npz import save_npz
+
+            files += [save_npz(r, out / f"{s.name}_{k}.npz") for k, r in runs.items()]
+    if figures:
         from clearance.plot import plot_all
 
-        fmts = tuple(dict.fromkeys((s.output.figure_format, "pdf")))
-        files += plot_all(
-            dict(load_results(files[0])), out / "figures", platform=info.platform_body, formats=fmts
-        )
-    timings["total"] = time.perf_counter() - t_all
-    return RunOutput(s, r_ideal, r_clr, ik, summary, files, timings)
+        with timer("figures"):
+            files += plot_all(
+                ds, out / "figures", platform=platform, formats=(s.output.figure_format,)
+            )
+    return files

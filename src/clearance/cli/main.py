@@ -7,8 +7,10 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-import typer
+_T_START = time.perf_counter()  # the CLI module's import: start-up for `run --timings`
+
+import numpy as np  # noqa: E402
+import typer  # noqa: E402
 
 app = typer.Typer(
     add_completion=False,
@@ -126,16 +128,34 @@ def check(file: Path = typer.Argument(..., help="scenario file (TOML)")) -> None
 @app.command()
 def run(
     file: Path = typer.Argument(None, help="scenario file (default: the shipped 4UPS-UPU)"),
-    out: Path = typer.Option(None, help="output folder (default: the scenario's [output])"),
+    out: Path = typer.Option(
+        None, help="output folder (default: the scenario's \\[output] folder)"
+    ),
     figures: bool = typer.Option(None, "--figures/--no-figures", help="draw the figures"),
+    outputs: str = typer.Option(
+        None,
+        "--outputs",
+        help="result groups besides the lean default, comma-separated: "
+        "bodies, contact_points, multipliers, reactions or all "
+        "(default: the scenario's \\[output] outputs)",
+    ),
+    timings: bool = typer.Option(False, "--timings", help="print the wall time of each stage"),
 ) -> None:
     """Run a scenario: ideal and clearance mechanism on the same IK drives; save and plot."""
+    from clearance.io.outputs import check_outputs
     from clearance.model.errors import KinematicsError, ModelError
-    from clearance.pipeline import format_summary, run_scenario
+    from clearance.pipeline import STAGES, format_summary, run_scenario
     from clearance.scenario import ScenarioError
 
+    extra = None
+    if outputs is not None:
+        try:
+            extra = check_outputs([x.strip() for x in outputs.split(",") if x.strip()])
+        except ValueError as e:
+            typer.echo(f"error: --{e}", err=True)
+            raise typer.Exit(2) from None
     try:
-        o = run_scenario(file, out_dir=out, figures=figures, log=typer.echo)
+        o = run_scenario(file, out_dir=out, figures=figures, outputs=extra, log=typer.echo)
     except ScenarioError as e:
         for line in e.lines():
             typer.echo(line, err=True)
@@ -149,6 +169,12 @@ def run(
         f"total wall time {o.timings['total']:.2f} s "
         f"(inverse kinematics {o.timings['inverse_kinematics']:.2f} s)"
     )
+    if timings:
+        typer.echo("timings [s]:")
+        for k in (*STAGES, "total"):
+            if k in o.timings:
+                typer.echo(f"  {k:<20s} {o.timings[k]:8.3f}")
+        typer.echo(f"  {'process':<20s} {time.perf_counter() - _T_START:8.3f}  (since start-up)")
     typer.echo("files:")
     for f in o.files:
         typer.echo(f"  {f}")
@@ -160,14 +186,18 @@ def run(
 def plot(
     result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
     out: Path = typer.Option(None, help="figure folder (default: <result folder>/figures)"),
-    fmt: list[str] = typer.Option(["png", "pdf"], "--format", help="figure formats"),
+    fmt: list[str] = typer.Option(["png"], "--format", help="figure format (repeatable)"),
 ) -> None:
     """Redraw the figures of a saved result, without simulating."""
     from clearance.io.dataset import load_results
     from clearance.plot import plot_all
 
     data = _load(result, load_results)
-    files = plot_all(dict(data), out or result.parent / "figures", formats=tuple(fmt))
+    try:
+        files = plot_all(dict(data), out or result.parent / "figures", formats=tuple(fmt))
+    except (KeyError, ValueError) as e:
+        typer.echo(f"error: {result}: {e.args[0] if e.args else e}", err=True)
+        raise typer.Exit(2) from None
     for f in files:
         typer.echo(str(f))
 

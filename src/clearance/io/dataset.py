@@ -44,13 +44,14 @@ from __future__ import annotations
 import datetime as _dt
 import json
 import os
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from clearance.io.files import atomic_path
+from clearance.io.outputs import ALL, OUTPUTS, check_outputs
 from clearance.layout import (
     CO_FN,
     CO_FNV,
@@ -64,9 +65,11 @@ from clearance.layout import (
     NPOUT,
     POINT_COLUMNS,
 )
+from clearance.model.bodies import rotation_matrices
 from clearance.store.result import Result
 
-ENGINE = "h5netcdf"
+ENGINE = "netcdf4"  # the netCDF-C library: ~5x less per-variable overhead than h5netcdf
+LAZY_BYTES = 256 * 2**20  # load_results opens larger files lazily
 AXIS = ("x", "y", "z")
 QUAT = ("e0", "e1", "e2", "e3")
 
@@ -116,35 +119,65 @@ def _strings(items) -> np.ndarray:
     return a if a.size else np.array([], dtype="U1")
 
 
+def _groups(outputs: Iterable[str] | str) -> frozenset:
+    """Output groups asked for: "all" or names of `clearance.io.outputs.OUTPUTS`."""
+    names = check_outputs([outputs] if isinstance(outputs, str) else outputs)
+    return frozenset(OUTPUTS) if ALL in names else frozenset(names)
+
+
+def _rotate(R: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """(n, nb, 3) body-frame vectors -> world frame with (n, nb, 3, 3) rotations."""
+    return np.einsum("nbij,nbj->nbi", R, w)
+
+
 def _driver_units(kind: str) -> str:
     return "N m" if kind == "OrientationDriver" else "N"
 
 
 # ----------------------------------------------------------------------------- Result -> Dataset
-def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dataset:
+def result_to_dataset(
+    result: Result,
+    *,
+    attrs: Mapping | None = None,
+    outputs: Iterable[str] | str = ALL,
+    bodies: Sequence[str] | None = None,
+) -> xr.Dataset:
     """Convert a `Result` into an `xarray.Dataset` (layout in the module docstring).
 
     attrs: extra attributes (e.g. the scenario as a TOML string) added after the built-in
     ones; values that are not strings, numbers or numeric vectors are stored as JSON.
+    outputs: the output groups to hold (`clearance.io.outputs`; "all", the default, is
+    every group and every body); the dataset's `outputs` attribute lists them. bodies: the
+    bodies of group "platform" (ignored when "bodies" is asked for; None: every body).
     """
     import clearance
 
+    groups = _groups(outputs)
     c = result.compiled
     n = result.t.size
     nb = c.nb
-    bodies = list(c.body_names)
+    if "bodies" in groups or bodies is None:
+        bodies = list(c.body_names)
+    else:
+        unknown = [b for b in bodies if b not in c.body_names]
+        if unknown:
+            raise ValueError(f"no body named {unknown[0]!r}; bodies: {list(c.body_names)}")
+        bodies = list(bodies)
+    if not groups & {"platform", "bodies"}:
+        bodies = []
+    kb = np.array([c.body_names.index(b) for b in bodies], dtype=np.int64)
     allblocks = {b.name: b for b in c.joints + c.drivers}
-    blocks = [allblocks[nm] for nm in result.blocks]
+    blocks = [allblocks[nm] for nm in result.blocks] if "reactions" in groups else []
     rowblocks = [b for b in c.joints + c.drivers if b.nrows]
     row_label, row_block, row_kind = [], [], []
-    for b in sorted(rowblocks, key=lambda b: b.row0):
+    for b in sorted(rowblocks, key=lambda b: b.row0) if "multipliers" in groups else ():
         for i in range(b.nrows):
             row_label.append(f"{b.name}[{i}]")
             row_block.append(b.name)
             row_kind.append(b.kind)
-    if len(row_label) != result.lam.shape[1]:
+    if "multipliers" in groups and len(row_label) != result.lam.shape[1]:
         raise ValueError(f"{len(row_label)} row labels for {result.lam.shape[1]} multipliers")
-    dnames = list(result.driver_names)
+    dnames = list(result.driver_names) if "actuators" in groups else []
     counts = {d: dnames.count(d) for d in dnames}
     seen: dict = {}
     drow = []
@@ -155,79 +188,90 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
     # recovered forces without a driver block (lumped limbs, physics.md i) are forces [N]
     dunits = [_driver_units(allblocks[d].kind) if d in allblocks else "N" for d in dnames]
 
-    q = result.q.reshape(n, nb, 7)
-    v = result.v.reshape(n, nb, 6)
-    a = result.a.reshape(n, nb, 6)
-    p = q[:, :, 3:]
-    R = rotation_matrices(p)
-    wb, ab = v[:, :, 3:], a[:, :, 3:]
-    tb = ("time", "body", "axis")
-
-    dv: dict = {
-        "position": _var(tb, q[:, :, :3], "m", "mass-centre position", "world frame"),
-        "euler_parameters": _var(
-            ("time", "body", "quat"),
-            p,
-            "1",
-            "Euler parameters (e0 scalar)",
-            "body -> world rotation as integrated (unit norm to solver tolerance)",
-        ),
-        "velocity": _var(tb, v[:, :, :3], "m s-1", "mass-centre velocity", "world frame"),
-        "angular_velocity": _var(
-            tb, np.einsum("nbij,nbj->nbi", R, wb), "rad s-1", "angular velocity", "world frame"
-        ),
-        "angular_velocity_body": _var(tb, wb, "rad s-1", "angular velocity", "body frame (omega')"),
-        "acceleration": _var(tb, a[:, :, :3], "m s-2", "mass-centre acceleration", "world frame"),
-        "angular_acceleration": _var(
-            tb,
-            np.einsum("nbij,nbj->nbi", R, ab),
-            "rad s-2",
-            "angular acceleration",
-            "world frame, R omega'_dot",
-        ),
-        "angular_acceleration_body": _var(
-            tb, ab, "rad s-2", "angular acceleration", "body frame (omega'_dot)"
-        ),
-        "multiplier": _var(
-            ("time", "row"),
-            result.lam,
-            "mixed",
-            "Lagrange multiplier",
-            "N for point rows, N m for dot-1 rows; conjugate to each row's phi",
-        ),
-        "constraint_violation": _var(
-            ("time", "row"), result.phi, "mixed", "constraint violation phi", "m or 1, per row"
-        ),
-        "constraint_violation_rate": _var(
-            ("time", "row"),
-            result.phi_dot,
-            "mixed",
-            "constraint violation rate phi_dot",
-            "m s-1 or s-1, per row",
-        ),
-        "reaction_force": _var(
-            ("time", "block", "axis"),
-            result.reaction_force,
-            "N",
-            "joint reaction force",
-            "world frame, exerted by the joint on its reaction_body",
-        ),
-        "reaction_moment": _var(
-            ("time", "block", "axis"),
-            result.reaction_moment,
-            "N m",
-            "joint reaction moment",
-            "world frame, about the joint point, on reaction_body",
-        ),
-        "actuator_force": _var(
+    dv: dict = {}
+    if bodies:
+        q = result.q.reshape(n, nb, 7)[:, kb]
+        v = result.v.reshape(n, nb, 6)[:, kb]
+        a = result.a.reshape(n, nb, 6)[:, kb]
+        p = q[:, :, 3:]
+        R = rotation_matrices(p)
+        wb, ab = v[:, :, 3:], a[:, :, 3:]
+        tb = ("time", "body", "axis")
+        dv.update(
+            position=_var(tb, q[:, :, :3], "m", "mass-centre position", "world frame"),
+            euler_parameters=_var(
+                ("time", "body", "quat"),
+                p,
+                "1",
+                "Euler parameters (e0 scalar)",
+                "body -> world rotation as integrated (unit norm to solver tolerance)",
+            ),
+            velocity=_var(tb, v[:, :, :3], "m s-1", "mass-centre velocity", "world frame"),
+            angular_velocity=_var(tb, _rotate(R, wb), "rad s-1", "angular velocity", "world frame"),
+            acceleration=_var(tb, a[:, :, :3], "m s-2", "mass-centre acceleration", "world frame"),
+            angular_acceleration=_var(
+                tb,
+                _rotate(R, ab),
+                "rad s-2",
+                "angular acceleration",
+                "world frame, R omega'_dot",
+            ),
+        )
+        if "bodies" in groups:  # with every body: the integrator's (body-frame) channels too
+            dv.update(
+                angular_velocity_body=_var(
+                    tb, wb, "rad s-1", "angular velocity", "body frame (omega')"
+                ),
+                angular_acceleration_body=_var(
+                    tb, ab, "rad s-2", "angular acceleration", "body frame (omega'_dot)"
+                ),
+            )
+    if "multipliers" in groups:
+        dv.update(
+            multiplier=_var(
+                ("time", "row"),
+                result.lam,
+                "mixed",
+                "Lagrange multiplier",
+                "N for point rows, N m for dot-1 rows; conjugate to each row's phi",
+            ),
+            constraint_violation=_var(
+                ("time", "row"), result.phi, "mixed", "constraint violation phi", "m or 1, per row"
+            ),
+            constraint_violation_rate=_var(
+                ("time", "row"),
+                result.phi_dot,
+                "mixed",
+                "constraint violation rate phi_dot",
+                "m s-1 or s-1, per row",
+            ),
+        )
+    if "reactions" in groups:
+        dv.update(
+            reaction_force=_var(
+                ("time", "block", "axis"),
+                result.reaction_force,
+                "N",
+                "joint reaction force",
+                "world frame, exerted by the joint on its reaction_body",
+            ),
+            reaction_moment=_var(
+                ("time", "block", "axis"),
+                result.reaction_moment,
+                "N m",
+                "joint reaction moment",
+                "world frame, about the joint point, on reaction_body",
+            ),
+        )
+    if "actuators" in groups:
+        dv["actuator_force"] = _var(
             ("time", "driver_row"),
             result.driver_force,
             dunits[0] if len(set(dunits)) == 1 else "mixed",
             "actuator force",
             "F_act = -lam (scaled for squared distance drivers); units per row in driver_units",
-        ),
-    }
-    for key, val in result.energy.items():
+        )
+    for key, val in result.energy.items() if "energy" in groups else ():
         dv[f"energy_{key}"] = _var(
             ("time",),
             np.asarray(val, dtype=float),
@@ -242,83 +286,91 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
     cs = result.contact_state if result.contact_state is not None else np.zeros((n, ncp, 2))
     dis = result.dissipation if result.dissipation is not None else np.zeros((n, nclr, 2))
     br = result.bristle if result.bristle is not None else np.zeros((n, ncp, 3))
-    for table, data, dim in ((JOINT_COLUMNS, co, "clearance"), (POINT_COLUMNS, po, "contact")):
+    tables = [(JOINT_COLUMNS, co, "clearance")] if "clearance" in groups else []
+    if "contact_points" in groups:
+        tables.append((POINT_COLUMNS, po, "contact"))
+    for table, data, dim in tables:
         for col in table:
             dims = ("time", dim, "axis") if col.width == 3 else ("time", dim)
             dv[col.name] = _var(dims, col.take(data), col.units, col.long_name, col.description)
-    tc, tp = ("time", "clearance"), ("time", "contact")
-    flag = cs[:, :, 0]
-    if np.array_equal(flag, flag.astype(np.int8)):
-        flag = flag.astype(np.int8)
-    dv.update(
-        contact_flag=_var(tp, flag, "1", "contact flag", "1 in contact (discrete state)"),
-        impact_velocity=_var(
-            tp,
-            cs[:, :, 1],
-            "m s-1",
-            "impact velocity",
-            "delta_dot at the last contact onset (floored)",
-        ),
-        dissipation_damping=_var(
-            tc, dis[:, :, 0], "J", "normal-damping dissipation D_n", "cumulative"
-        ),
-        dissipation_friction=_var(tc, dis[:, :, 1], "J", "friction work D_t", "cumulative"),
-        bristle=_var((*tp, "axis"), br, "m", "LuGre bristle deflection z", "world frame"),
-    )
-    if result.contact_peaks is not None:
-        pk = np.asarray(result.contact_peaks, dtype=float)
-        resolved = "over the accepted integration steps and the samples"
+    if "clearance" in groups:
+        tc, tp = ("time", "clearance"), ("time", "contact")
+        flag = cs[:, :, 0]
+        if np.array_equal(flag, flag.astype(np.int8)):
+            flag = flag.astype(np.int8)
         dv.update(
-            peak_contact_force=_var(
-                ("clearance",), pk[:, 0], "N", "largest normal contact force F_N", resolved
+            contact_flag=_var(tp, flag, "1", "contact flag", "1 in contact (discrete state)"),
+            impact_velocity=_var(
+                tp,
+                cs[:, :, 1],
+                "m s-1",
+                "impact velocity",
+                "delta_dot at the last contact onset (floored)",
             ),
-            peak_contact_force_time=_var(("clearance",), pk[:, 1], "s", "time of the largest F_N"),
-            peak_penetration=_var(("clearance",), pk[:, 2], "m", "largest penetration", resolved),
-            peak_penetration_time=_var(
-                ("clearance",), pk[:, 3], "s", "time of the largest penetration"
+            dissipation_damping=_var(
+                tc, dis[:, :, 0], "J", "normal-damping dissipation D_n", "cumulative"
+            ),
+            dissipation_friction=_var(tc, dis[:, :, 1], "J", "friction work D_t", "cumulative"),
+            bristle=_var((*tp, "axis"), br, "m", "LuGre bristle deflection z", "world frame"),
+        )
+        if result.contact_peaks is not None:
+            pk = np.asarray(result.contact_peaks, dtype=float)
+            resolved = "over the accepted integration steps and the samples"
+            dv.update(
+                peak_contact_force=_var(
+                    ("clearance",), pk[:, 0], "N", "largest normal contact force F_N", resolved
+                ),
+                peak_contact_force_time=_var(
+                    ("clearance",), pk[:, 1], "s", "time of the largest F_N"
+                ),
+                peak_penetration=_var(
+                    ("clearance",), pk[:, 2], "m", "largest penetration", resolved
+                ),
+                peak_penetration_time=_var(
+                    ("clearance",), pk[:, 3], "s", "time of the largest penetration"
+                ),
+            )
+        ev = result.events if result.events is not None else np.zeros((0, NLOG))
+        pidx = ev[:, EV_POINT].astype(np.int64)
+        jnames = [result.contact_point_joints[k] for k in pidx]
+        dv.update(
+            event_time=_var(("event",), ev[:, EV_T], "s", "event time"),
+            event_joint=_var(
+                ("event",),
+                np.array([result.clearance_names.index(j) for j in jnames], dtype=np.int64),
+                "1",
+                "clearance joint index",
+            ),
+            event_clearance=_var(("event",), _strings(jnames), "1", "clearance joint name"),
+            event_point=_var(("event",), pidx, "1", "contact point index"),
+            event_contact=_var(
+                ("event",),
+                _strings(result.contact_point_names[k] for k in pidx),
+                "1",
+                "contact point name",
+            ),
+            event_kind=_var(
+                ("event",),
+                ev[:, 2].astype(np.int8),
+                "1",
+                "event kind",
+                "+1 contact onset, -1 separation",
+            ),
+            event_penetration_rate=_var(
+                ("event",),
+                ev[:, 3],
+                "m s-1",
+                "penetration rate at the event",
+                "impact velocity at onsets",
+            ),
+            event_eccentricity=_var(
+                ("event", "axis"),
+                ev[:, EV_E : EV_E + 3],
+                "m",
+                "eccentricity at the event",
+                "the joint's, outer marker frame",
             ),
         )
-    ev = result.events if result.events is not None else np.zeros((0, NLOG))
-    pidx = ev[:, EV_POINT].astype(np.int64)
-    jnames = [result.contact_point_joints[k] for k in pidx]
-    dv.update(
-        event_time=_var(("event",), ev[:, EV_T], "s", "event time"),
-        event_joint=_var(
-            ("event",),
-            np.array([result.clearance_names.index(j) for j in jnames], dtype=np.int64),
-            "1",
-            "clearance joint index",
-        ),
-        event_clearance=_var(("event",), _strings(jnames), "1", "clearance joint name"),
-        event_point=_var(("event",), pidx, "1", "contact point index"),
-        event_contact=_var(
-            ("event",),
-            _strings(result.contact_point_names[k] for k in pidx),
-            "1",
-            "contact point name",
-        ),
-        event_kind=_var(
-            ("event",),
-            ev[:, 2].astype(np.int8),
-            "1",
-            "event kind",
-            "+1 contact onset, -1 separation",
-        ),
-        event_penetration_rate=_var(
-            ("event",),
-            ev[:, 3],
-            "m s-1",
-            "penetration rate at the event",
-            "impact velocity at onsets",
-        ),
-        event_eccentricity=_var(
-            ("event", "axis"),
-            ev[:, EV_E : EV_E + 3],
-            "m",
-            "eccentricity at the event",
-            "the joint's, outer marker frame",
-        ),
-    )
 
     cinfo = list(c.clearances)
     coords = {
@@ -326,19 +378,6 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
         "body": _var(("body",), _strings(bodies), "1", "body name"),
         "axis": _var(("axis",), _strings(AXIS), "1", "Cartesian axis"),
         "quat": _var(("quat",), _strings(QUAT), "1", "Euler parameter"),
-        "row": _var(("row",), _strings(row_label), "1", "constraint row"),
-        "row_block": _var(("row",), _strings(row_block), "1", "joint or driver of the row"),
-        "row_kind": _var(("row",), _strings(row_kind), "1", "kind of the row's block"),
-        "block": _var(("block",), _strings(b.name for b in blocks), "1", "joint or driver"),
-        "block_kind": _var(("block",), _strings(b.kind for b in blocks), "1", "kind"),
-        "block_body_i": _var(("block",), _strings(b.body_i for b in blocks), "1", "body i"),
-        "block_body_j": _var(("block",), _strings(b.body_j for b in blocks), "1", "body j"),
-        "reaction_body": _var(
-            ("block",), _strings(result.reaction_body), "1", "body the reaction acts on"
-        ),
-        "driver_row": _var(("driver_row",), _strings(drow), "1", "actuator row"),
-        "driver": _var(("driver_row",), _strings(dnames), "1", "driver name"),
-        "driver_units": _var(("driver_row",), _strings(dunits), "1", "actuator force units"),
         "clearance": _var(("clearance",), _strings(result.clearance_names), "1", "clearance joint"),
         "clearance_kind": _var(
             ("clearance",),
@@ -397,6 +436,37 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
             ("clearance",), _strings(i.friction for i in cinfo), "1", "friction law"
         ),
     }
+
+    if "multipliers" in groups:
+        coords.update(
+            {
+                "row": _var(("row",), _strings(row_label), "1", "constraint row"),
+                "row_block": _var(("row",), _strings(row_block), "1", "joint or driver of the row"),
+                "row_kind": _var(("row",), _strings(row_kind), "1", "kind of the row's block"),
+            }
+        )
+    if "reactions" in groups:
+        coords.update(
+            {
+                "block": _var(("block",), _strings(b.name for b in blocks), "1", "joint or driver"),
+                "block_kind": _var(("block",), _strings(b.kind for b in blocks), "1", "kind"),
+                "block_body_i": _var(("block",), _strings(b.body_i for b in blocks), "1", "body i"),
+                "block_body_j": _var(("block",), _strings(b.body_j for b in blocks), "1", "body j"),
+                "reaction_body": _var(
+                    ("block",), _strings(result.reaction_body), "1", "body the reaction acts on"
+                ),
+            }
+        )
+    if "actuators" in groups:
+        coords.update(
+            {
+                "driver_row": _var(("driver_row",), _strings(drow), "1", "actuator row"),
+                "driver": _var(("driver_row",), _strings(dnames), "1", "driver name"),
+                "driver_units": _var(
+                    ("driver_row",), _strings(dunits), "1", "actuator force units"
+                ),
+            }
+        )
     at = {
         "title": f"clearance simulation of {c.mechanism.name}",
         "mechanism": c.mechanism.name,
@@ -407,27 +477,20 @@ def result_to_dataset(result: Result, *, attrs: Mapping | None = None) -> xr.Dat
         "message": str(result.message),
         "settings": json.dumps(result.settings, default=str),
         "layout": c.describe(),
+        "outputs": json.dumps([g for g in OUTPUTS if g in groups]),
     }
     at.update({f"stats_{k}": val for k, val in result.stats.items()})
     at.update(attrs or {})
     return xr.Dataset(dv, coords=coords, attrs=clean_attrs(at))
 
 
-def rotation_matrices(p: np.ndarray) -> np.ndarray:
-    """(..., 4) Euler parameters -> (..., 3, 3) rotation matrices (normalised first)."""
-    p = p / np.linalg.norm(p, axis=-1, keepdims=True)
-    e0, e1, e2, e3 = np.moveaxis(p, -1, 0)
-    return (
-        np.stack(
-            [
-                np.stack([e0**2 + e1**2 - 0.5, e1 * e2 - e0 * e3, e1 * e3 + e0 * e2], -1),
-                np.stack([e1 * e2 + e0 * e3, e0**2 + e2**2 - 0.5, e2 * e3 - e0 * e1], -1),
-                np.stack([e1 * e3 - e0 * e2, e2 * e3 + e0 * e1, e0**2 + e3**2 - 0.5], -1),
-            ],
-            -2,
-        )
-        * 2.0
-    )
+def stored_outputs(ds: xr.Dataset) -> frozenset:
+    """The output groups a dataset holds (its `outputs` attribute; every group in files
+    written before the attribute existed). Group "bodies" means every body is stored."""
+    try:
+        return frozenset(json.loads(ds.attrs["outputs"]))
+    except (KeyError, TypeError, ValueError):
+        return frozenset(OUTPUTS)
 
 
 def dataset_to_arrays(ds: xr.Dataset) -> dict:
@@ -442,6 +505,12 @@ def dataset_to_arrays(ds: xr.Dataset) -> dict:
     (dict), stats (dict). Files of version 0.1 (one contact point per joint, no point
     channels) read as well.
     """
+    missing = [k for k in OUTPUTS if k != "platform" and k not in stored_outputs(ds)]
+    if missing:
+        raise ValueError(
+            f"the dataset holds the outputs {sorted(stored_outputs(ds))}; restoring a Result "
+            f"needs {', '.join(missing)} as well (write the run with outputs='all')"
+        )
     n = ds.sizes["time"]
     nb = ds.sizes["body"]
     g = {k: np.asarray(ds[k].values) for k in ds.variables}
@@ -514,14 +583,6 @@ def dataset_to_arrays(ds: xr.Dataset) -> dict:
 
 
 # ----------------------------------------------------------------------------- NetCDF file
-class ResultFile(dict):
-    """`dict` group name -> Dataset, with the file's root attributes in `.attrs`."""
-
-    def __init__(self, *args, attrs: Mapping | None = None, **kw) -> None:
-        super().__init__(*args, **kw)
-        self.attrs = dict(attrs or {})
-
-
 def _check_group(name: str) -> str:
     if not isinstance(name, str) or not name or "/" in name or name.startswith("."):
         raise ValueError(f"invalid group name {name!r}: a non-empty name without '/'")
@@ -572,30 +633,57 @@ def save_results(
             comp = {"zlib": True, "complevel": complevel, "shuffle": True} if complevel else {}
             enc = {
                 k: comp
-                for k, var in ds.data_vars.items()
-                if comp and var.size and var.dtype.kind in "iuf"
+                for k, var in ds.variables.items()
+                if comp and var.size > 1 and var.dtype.kind in "iuf"
             }
             ds.to_netcdf(tmp, mode="a", group=name, engine=ENGINE, encoding=enc)
     return path
 
 
-def load_results(path: str | os.PathLike) -> ResultFile:
-    """Read a file written by `save_results`: {group: Dataset} (loaded into memory) + .attrs."""
-    import h5netcdf
+class ResultFile(dict):
+    """`dict` group name -> Dataset, with the file's root attributes in `.attrs`. Close it
+    (or use it in a `with` block) when its datasets were opened lazily."""
+
+    def __init__(self, *args, attrs: Mapping | None = None, **kw) -> None:
+        super().__init__(*args, **kw)
+        self.attrs = dict(attrs or {})
+
+    def close(self) -> None:
+        for ds in self.values():
+            ds.close()
+
+    def __enter__(self) -> ResultFile:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def load_results(path: str | os.PathLike, *, lazy: bool | None = None) -> ResultFile:
+    """Read a file written by `save_results`: {group: Dataset} + .attrs.
+
+    lazy: open the groups without reading their arrays (each is read when used; close the
+    returned ResultFile when done); None (default): lazily for files above 256 MB, else
+    everything is loaded into memory and the file closed.
+    """
+    import netCDF4
 
     path = Path(path)
-    root = xr.load_dataset(path, engine=ENGINE)
-    attrs = dict(root.attrs)
-    with h5netcdf.File(path, "r") as f:
+    if lazy is None:
+        lazy = path.stat().st_size > LAZY_BYTES
+    with netCDF4.Dataset(path, "r") as f:
+        attrs = {k: f.getncattr(k) for k in f.ncattrs()}
         present = list(f.groups)
+    attrs = dict(xr.Dataset(attrs=attrs).attrs)
     try:
         order = [g for g in json.loads(attrs.get("groups", "[]")) if g in present]
     except (TypeError, ValueError):
         order = []
     order += [g for g in present if g not in order]
+    read = xr.open_dataset if lazy else xr.load_dataset
     out = ResultFile(attrs=attrs)
     for g in order:
-        out[g] = xr.load_dataset(path, group=g, engine=ENGINE)
+        out[g] = read(path, group=g, engine=ENGINE)
     return out
 
 
@@ -610,4 +698,5 @@ __all__ = [
     "result_to_dataset",
     "rotation_matrices",
     "save_results",
+    "stored_outputs",
 ]

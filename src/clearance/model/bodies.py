@@ -93,6 +93,23 @@ def quaternion_to_rotation(p: np.ndarray) -> np.ndarray:
     return (e0 * e0 - e @ e) * np.eye(3) + 2.0 * (np.outer(e, e) + e0 * et)
 
 
+def rotation_matrices(p: np.ndarray) -> np.ndarray:
+    """(..., 4) Euler parameters -> (..., 3, 3) rotation matrices (normalised first)."""
+    p = p / np.linalg.norm(p, axis=-1, keepdims=True)
+    e0, e1, e2, e3 = np.moveaxis(p, -1, 0)
+    return (
+        np.stack(
+            [
+                np.stack([e0**2 + e1**2 - 0.5, e1 * e2 - e0 * e3, e1 * e3 + e0 * e2], -1),
+                np.stack([e1 * e2 + e0 * e3, e0**2 + e2**2 - 0.5, e2 * e3 - e0 * e1], -1),
+                np.stack([e1 * e3 - e0 * e2, e2 * e3 + e0 * e1, e0**2 + e3**2 - 0.5], -1),
+            ],
+            -2,
+        )
+        * 2.0
+    )
+
+
 def _orientation(owner: str, value: object) -> tuple[float, float, float, float]:
     """Accept Euler parameters (4,) or a rotation matrix (3,3); return unit Euler parameters."""
     a = np.asarray(value, dtype=float)
@@ -364,5 +381,6 @@ __all__ = [
     "Marker",
     "triad_from_axis",
     "quaternion_to_rotation",
+    "rotation_matrices",
     "rotation_to_quaternion",
 ]

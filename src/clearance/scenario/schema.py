@@ -25,6 +25,8 @@ from enum import Enum
 from typing import Any
 
 from clearance.integrate.methods import METHODS
+from clearance.io.outputs import ALL as ALL_OUTPUTS
+from clearance.io.outputs import OUTPUTS
 from clearance.mechanisms.params import ParamSet, SpsCuParams
 from clearance.mechanisms.ups_upu import UpsUpuParams
 from clearance.model.clearance import (
@@ -323,6 +325,12 @@ OUTPUT_FIELDS = {
     "figures": Field("bool", True, doc="write figures"),
     "figure_format": Field("choice", "png", choices=_ENUMS["figure_format"]),
     "formats": Field("choices", ("netcdf",), doc="result files", choices=_ENUMS["formats"]),
+    "outputs": Field(
+        "choices",
+        (),
+        doc="result groups beyond the lean default (clearance.io.outputs)",
+        choices=(*OUTPUTS, ALL_OUTPUTS),
+    ),
 }
 
 
@@ -418,6 +426,7 @@ class OutputSpec:
     figures: bool = True
     figure_format: str = "png"
     formats: tuple = ("netcdf",)
+    outputs: tuple = ()  # groups written besides clearance.io.outputs.LEAN
 
 
 @dataclass(frozen=True)

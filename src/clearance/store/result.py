@@ -9,7 +9,7 @@ import numpy as np
 
 from clearance.compile.compiled import Compiled
 from clearance.layout import CO_DELTA, CO_FN, EV_KIND, EV_POINT, JOINT_COLUMNS, POINT_COLUMNS
-from clearance.model.bodies import quaternion_to_rotation
+from clearance.model.bodies import rotation_matrices
 
 
 @dataclass(frozen=True)
@@ -98,7 +98,7 @@ class Result:
 
     def rotation(self, body: str) -> np.ndarray:
         """(n, 3, 3) rotation matrices body -> world."""
-        return np.array([quaternion_to_rotation(p) for p in self.euler_parameters(body)])
+        return rotation_matrices(self.euler_parameters(body))
 
     def velocity(self, body: str) -> np.ndarray:
         k = self._k(body)
