@@ -44,7 +44,7 @@ def test_plot_all_writes_every_figure(loaded, tmp_path, monkeypatch):
         raise AssertionError("plots must not simulate")
 
     monkeypatch.setattr(clearance, "simulate", no_simulation)
-    paths = plot_all(loaded, tmp_path / "fig")
+    paths = plot_all(loaded, tmp_path / "fig", formats=("png", "pdf"))
     stems = [
         "platform_displacement",
         "platform_velocity",
@@ -77,8 +77,18 @@ def test_ball_trajectory_limits_include_clearance_circle(loaded):
     e = 1e3 * ds["eccentricity"].sel(clearance="S_1").values
     assert np.linalg.norm(e, axis=1).max() > 0.9 * c_mm  # the ball reached the wall
     fig = plot_ball_trajectory(loaded, "S_1")
-    axes = fig.get_axes()
-    assert len(axes) == 4
+    axes = [ax for ax in fig.get_axes() if ax.get_label() != "<colorbar>"]
+    assert len(axes) == 4 and len(fig.get_axes()) == 5  # and one time colour bar
+    t = ds["time"].values
+    for ax in axes[1:]:  # the path is coloured by time, start and end marked
+        (lc,) = ax.collections
+        colours = lc.get_array()
+        assert colours.min() >= t[0] and colours.max() <= t[-1]
+        assert np.all(np.diff(colours) > 0)
+        pts = np.concatenate([seg[:-1] for seg in lc.get_segments()])
+        assert pts.shape[0] == t.size - 1
+        start, end = (ln.get_xydata()[0] for ln in ax.get_lines())
+        assert np.allclose(start, pts[0]) and np.allclose(end, lc.get_segments()[-1][-1])
     for ax in axes:
         lims = [ax.get_xlim(), ax.get_ylim()] + ([ax.get_zlim()] if hasattr(ax, "get_zlim") else [])
         for lo, hi in lims:
@@ -103,14 +113,116 @@ def test_angular_displacement_is_the_integral_of_omega(loaded):
         assert np.abs(d - xdot[1:-1]).max() < 0.02 * scale
 
 
-def test_platform_figure_overlays_runs(loaded):
+def test_platform_figure_overlays_runs_and_their_difference(loaded):
+    """Rows: x, y, z overlaid, then clearance - ideal; the difference drawn is the
+    difference of the data (independent recomputation from the file's channels)."""
     fig = plot_platform(loaded, "velocity")
-    axs = fig.get_axes()
-    assert len(axs) == 6
-    assert all(len(ax.get_lines()) == 2 for ax in axs)
-    assert axs[0].get_ylabel().endswith("[m/s]") and axs[3].get_ylabel().endswith("[rad/s]")
+    axs = _grid(fig)
+    for ax in axs[:, 0].ravel():
+        assert len(ax.get_lines()) == 2
+    for ax in axs[:, 1].ravel():
+        assert len(ax.get_lines()) == 1
+    assert axs[0, 0].get_ylabel().endswith("[m/s]") and axs[3, 0].get_ylabel().endswith("[rad/s]")
+    v = {k: loaded[k]["velocity"].sel(body="platform").values for k in loaded}
+    np.testing.assert_allclose(
+        axs[1, 1].get_lines()[0].get_ydata(), v["clearance"][:, 1] - v["ideal"][:, 1]
+    )
+    only = plot_platform({"ideal": loaded["ideal"]}, "velocity")
+    assert len(only.get_axes()) == 6  # one run: no difference rows
     with pytest.raises(KeyError, match="nobody"):
         plot_platform(loaded, "velocity", platform="nobody")
+
+
+def _grid(fig) -> np.ndarray:
+    """Platform figure panels as [component (x, y, z, rot x, rot y, rot z), overlay/diff]."""
+    return np.array(fig.get_axes(), dtype=object).reshape(6, 2)
+
+
+def _texts(fig) -> str:
+    out = [t.get_text() for ax in fig.get_axes() for t in ax.texts]
+    return "\n".join(out + [fig._suptitle.get_text() if fig._suptitle else ""])
+
+
+def test_noise_is_noted_not_plotted(loaded):
+    """A run equal to the reference up to rounding: every difference panel says it is
+    below numerical noise and draws nothing; a component that is zero to rounding in every
+    run is not drawn either."""
+    ideal = loaded["ideal"]
+    twin = ideal.copy(deep=True)
+    twin["velocity"] = twin["velocity"] * (1 + 1e-13)
+    twin["velocity"].loc[{"axis": "x"}] = 1e-15 * np.sin(ideal["time"].values)[:, None]
+    ideal2 = ideal.copy(deep=True)
+    ideal2["velocity"].loc[{"axis": "x"}] = 0.0
+    fig = plot_platform({"ideal": ideal2, "twin": twin}, "velocity")
+    axs = _grid(fig)
+    for ax in axs[:3, 1]:
+        assert not ax.get_lines() and "below numerical noise" in ax.texts[0].get_text()
+    assert not axs[0, 0].get_lines() and "numerical noise" in axs[0, 0].texts[0].get_text()
+    assert len(axs[1, 0].get_lines()) == 2  # y: a real signal, drawn
+
+
+def test_spikes_are_clipped_with_their_extent_noted(loaded):
+    """An impact spike 1000x the signal: the overlay keeps the ideal curve readable (its
+    range within the axes, the spike outside) and states the spike's extent; the
+    difference panel shows the spike in full."""
+    clr = loaded["ideal"].copy(deep=True)  # the ideal run plus one spike
+    a = clr["acceleration"].values.copy()
+    k = list(clr["body"].values).index("platform")
+    ideal_z = loaded["ideal"]["acceleration"].sel(body="platform", axis="z").values
+    spike = 1000 * np.abs(ideal_z).max()
+    a[len(a) // 2, k, 2] = spike
+    clr["acceleration"].values = a
+    fig = plot_platform({"ideal": loaded["ideal"], "clearance": clr}, "acceleration")
+    axs = _grid(fig)
+    lo, hi = axs[2, 0].get_ylim()
+    assert lo <= ideal_z.min() and hi >= ideal_z.max() and hi < spike / 10
+    assert f"{spike:.3g}" in _texts(fig) and "clipped" in axs[2, 0].texts[0].get_text()
+    assert axs[2, 1].get_ylim()[1] >= spike - np.abs(ideal_z).max()
+
+
+def test_contact_force_marks_the_step_resolved_peak(loaded):
+    from clearance.plot import plot_contact_force
+
+    ds = loaded["clearance"]
+    fig = plot_contact_force(loaded)
+    (ax,) = fig.get_axes()
+    (m,) = [ln for ln in ax.get_lines() if ln.get_gid() == "peak:clearance:S_1"]
+    pk = float(ds["peak_contact_force"].sel(clearance="S_1"))
+    tp = float(ds["peak_contact_force_time"].sel(clearance="S_1"))
+    assert m.get_ydata()[0] == pk and m.get_xdata()[0] == tp
+    assert pk >= ds["contact_force"].sel(clearance="S_1").values.max()
+    assert f"{pk:.4g} N" in m.get_label() and ax.get_ylim()[1] >= pk
+
+
+def test_a_run_that_stopped_early_says_so_on_every_figure(loaded, tmp_path):
+    clr = loaded["clearance"].copy()
+    clr.attrs = {**clr.attrs, "status": 3, "message": "step size too small"}
+    data = {"ideal": loaded["ideal"], "clearance": clr}
+    from clearance.plot import plot_actuator_forces, plot_contact_force
+
+    for fig in (
+        plot_platform(data, "displacement"),
+        plot_contact_force(data),
+        plot_ball_trajectory(data, "S_1"),
+        plot_actuator_forces(data),
+    ):
+        title = fig._suptitle.get_text()
+        assert "run 'clearance' STOPPED EARLY" in title and "step size too small" in title
+
+
+def test_actuator_panels_are_named_by_leg_with_the_sign_convention(loaded):
+    from clearance.plot import plot_actuator_forces
+
+    fig = plot_actuator_forces(loaded)
+    titles = [ax.get_title(loc="left") for ax in fig.get_axes()]
+    assert "leg 1 (drive_1)" in titles and "leg 5 (drive_5)" in titles
+    assert "extends the leg" in fig._suptitle.get_text()
+
+
+def test_plot_refuses_a_collected_study_clearly(loaded, tmp_path):
+    study = loaded["clearance"].expand_dims(case=["c0", "c1"])
+    with pytest.raises(ValueError, match="collected study"):
+        plot_all({"clearance": study}, tmp_path)
 
 
 def test_save_figure_is_atomic(tmp_path, monkeypatch):
@@ -185,3 +297,12 @@ def test_journal_and_slider_figures(tmp_path):
     for f, stem in ((fig, "j"), (fig2, "s")):
         (p,) = save_figure(f, tmp_path, stem, ("png",))
         assert p.stat().st_size > 5000
+
+
+def test_parallel_rendering_writes_the_same_files(loaded, tmp_path):
+    serial = plot_all(loaded, tmp_path / "one", jobs=1)
+    forked = plot_all(loaded, tmp_path / "two", jobs=2)
+    assert [p.name for p in serial] == [p.name for p in forked]
+    for a, b in zip(serial, forked, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
+    assert sorted(os.listdir(tmp_path / "two")) == sorted(p.name for p in forked)
