@@ -70,6 +70,7 @@ from clearance.store.result import Result
 
 ENGINE = "netcdf4"  # the netCDF-C library: ~5x less per-variable overhead than h5netcdf
 LAZY_BYTES = 256 * 2**20  # load_results opens larger files lazily
+CHUNK_SAMPLES = 4096  # samples per HDF5 chunk of a time history
 AXIS = ("x", "y", "z")
 QUAT = ("e0", "e1", "e2", "e3")
 
@@ -269,7 +270,9 @@ def result_to_dataset(
             result.driver_force,
             dunits[0] if len(set(dunits)) == 1 else "mixed",
             "actuator force",
-            "F_act = -lam (scaled for squared distance drivers); units per row in driver_units",
+            "F_act = -lambda, positive pushes body j along the driver's positive direction "
+            "(extends a leg); -2 l lambda for squared distance drivers; units per row in "
+            "driver_units",
         )
     for key, val in result.energy.items() if "energy" in groups else ():
         dv[f"energy_{key}"] = _var(
@@ -632,7 +635,7 @@ def save_results(
             ds.attrs = clean_attrs(ds.attrs)
             comp = {"zlib": True, "complevel": complevel, "shuffle": True} if complevel else {}
             enc = {
-                k: comp
+                k: {**comp, **_chunks(var)}
                 for k, var in ds.variables.items()
                 if comp and var.size > 1 and var.dtype.kind in "iuf"
             }
@@ -659,6 +662,15 @@ class ResultFile(dict):
         self.close()
 
 
+def _chunks(var: xr.Variable) -> dict:
+    """HDF5 chunks of CHUNK_SAMPLES samples along time (the whole variable otherwise): a
+    reader of part of the time range (streamed export, lazy loading) decompresses only the
+    chunks it needs instead of the whole history."""
+    if var.dims and var.dims[0] == "time" and var.shape[0] > CHUNK_SAMPLES:
+        return {"chunksizes": (CHUNK_SAMPLES, *var.shape[1:])}
+    return {}
+
+
 def load_results(path: str | os.PathLike, *, lazy: bool | None = None) -> ResultFile:
     """Read a file written by `save_results`: {group: Dataset} + .attrs.
 
@@ -680,10 +692,22 @@ def load_results(path: str | os.PathLike, *, lazy: bool | None = None) -> Result
     except (TypeError, ValueError):
         order = []
     order += [g for g in present if g not in order]
-    read = xr.open_dataset if lazy else xr.load_dataset
     out = ResultFile(attrs=attrs)
-    for g in order:
-        out[g] = read(path, group=g, engine=ENGINE)
+    if not lazy:
+        for g in order:
+            out[g] = xr.load_dataset(path, group=g, engine=ENGINE)
+        return out
+    # lazily: xarray's cache=False keeps a slice read a slice, and a small HDF5 chunk cache
+    # per variable (netCDF's default is 64 MB each: with hundreds of variables, reading
+    # the file chunk by chunk kept all of it decompressed in memory)
+    previous = netCDF4.get_chunk_cache()
+    netCDF4.set_chunk_cache(4 * 2**20, 61, 0.75)
+    try:
+        for g in order:
+            out[g] = xr.open_dataset(path, group=g, engine=ENGINE, cache=False)
+            out[g]["time"].load()
+    finally:
+        netCDF4.set_chunk_cache(*previous)
     return out
 
 
