@@ -194,6 +194,17 @@ def test_compiled_matches_python(cases: list[Case], ts: list[float]) -> None:
 
 
 @settings(max_examples=200, deadline=None)
+@given(any_case, st.lists(fl(T_LO - 1.0, T_HI + 1.0), min_size=1, max_size=6))
+def test_vectorised_evaluate_equals_derivatives(case: Case, ts: list[float]) -> None:
+    """evaluate(t) (splines vectorised) gives exactly the scalar derivatives, outside the
+    knot range too (end values held)."""
+    got = case.fn.evaluate(np.array(ts))
+    want = np.array([case.fn.derivatives(t) for t in ts])
+    assert got.shape == (len(ts), 3)
+    np.testing.assert_array_equal(got, want)
+
+
+@settings(max_examples=200, deadline=None)
 @given(tabulated(), fl(0.0, 1.0))
 def test_tabulated_matches_scipy(case: Case, frac: float) -> None:
     fn = case.fn

@@ -422,7 +422,7 @@ def lumped_actuator_force(
         )
 
     t = result.t  # type: ignore[attr-defined]
-    L = np.array([fn.derivatives(float(tk)) for tk in t]).reshape(-1, 3)
+    L = fn.evaluate(t)
     l, ld, ldd = L[:, 0], L[:, 1], L[:, 2]
     R = result.rotation(body)  # type: ignore[attr-defined]
     u = R[:, :, 2]

@@ -54,6 +54,12 @@ class TimeFunction:
     def __call__(self, t: float) -> float:
         return self.derivatives(t)[0]
 
+    def evaluate(self, t: object) -> np.ndarray:
+        """(n, 3) array of (f, f_dot, f_ddot) at the times t (n,), the values of
+        `derivatives` (vectorised where the kind allows, e.g. splines; else a loop)."""
+        t = np.asarray(t, dtype=float).reshape(-1)
+        return np.array([self.derivatives(float(tk)) for tk in t], dtype=float).reshape(-1, 3)
+
     def _leaf_data(self) -> np.ndarray:
         raise NotImplementedError
 
@@ -233,6 +239,9 @@ class Tabulated(TimeFunction):
             return f, 0.0, 0.0
         return f, float(self._spline(tc, 1)), float(self._spline(tc, 2))
 
+    def evaluate(self, t: object) -> np.ndarray:
+        return _spline_evaluate(self._spline, self.times, t)
+
     def _leaf_data(self) -> np.ndarray:
         cs = self._spline  # cs.c[k, i] multiplies (t - x_i)^(3 - k)
         return np.concatenate([[cs.c.shape[1]], cs.x, cs.c.T.ravel()])
@@ -291,6 +300,9 @@ class HermiteSpline(TimeFunction):
             return f, 0.0, 0.0
         return f, float(self._pp(tc, 1)), float(self._pp(tc, 2))
 
+    def evaluate(self, t: object) -> np.ndarray:
+        return _spline_evaluate(self._pp, self.times, t)
+
     def _leaf_data(self) -> np.ndarray:
         pp = self._pp  # pp.c[j, i] multiplies (t - x_i)^(k - j)
         m, k = pp.c.shape[1], pp.c.shape[0] - 1
@@ -314,6 +326,11 @@ class Scaled(TimeFunction):
     def derivatives(self, t: float) -> tuple[float, float, float]:
         f, fd, fdd = self.function.derivatives(t)
         return self.factor * f + self.offset, self.factor * fd, self.factor * fdd
+
+    def evaluate(self, t: object) -> np.ndarray:
+        out = self.function.evaluate(t) * self.factor
+        out[:, 0] += self.offset
+        return out
 
     def _terms(self) -> tuple[float, tuple[tuple[float, TimeFunction], ...]]:
         off, terms = self.function._terms()
@@ -343,9 +360,28 @@ class Sum(TimeFunction):
             f, fd, fdd = f + a, fd + b, fdd + c
         return f, fd, fdd
 
+    def evaluate(self, t: object) -> np.ndarray:
+        out = self.functions[0].evaluate(t)
+        for fn in self.functions[1:]:
+            out = out + fn.evaluate(t)
+        return out
+
     def _terms(self) -> tuple[float, tuple[tuple[float, TimeFunction], ...]]:
         parts = [f._terms() for f in self.functions]
         return sum(p[0] for p in parts), tuple(t for p in parts for t in p[1])
+
+
+def _spline_evaluate(pp: Any, times: tuple[float, ...], t: object) -> np.ndarray:
+    """(n, 3) values and two derivatives of a piecewise polynomial at t, the end values
+    held with zero derivatives outside [times[0], times[-1]] (as `derivatives` does)."""
+    t = np.asarray(t, dtype=float).reshape(-1)
+    tc = np.clip(t, times[0], times[-1])
+    inside = tc == t
+    out = np.zeros((t.size, 3))
+    out[:, 0] = pp(tc)
+    out[:, 1] = np.where(inside, pp(tc, 1), 0.0)
+    out[:, 2] = np.where(inside, pp(tc, 2), 0.0)
+    return out
 
 
 def as_function(x: object, *, owner: str = "function", field: str = "function") -> TimeFunction:
