@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 import time
 from pathlib import Path
@@ -322,5 +323,26 @@ def _load(path: Path, loader):
         raise typer.Exit(2) from None
 
 
-def main() -> None:  # pragma: no cover
-    sys.exit(app())
+# commands that leave nothing running when they return (no Dask cluster, no threads)
+_FAST_EXIT = {"run", "plot", "export", "check", "describe", "example", "examples"}
+
+
+def main() -> None:  # pragma: no cover - the console script; tests call `app`
+    """The `clearance` console script. After run/plot/export/check, whose files are all
+    written and closed when the command returns, the process exits without the
+    interpreter's teardown: freeing the loaded numba kernels and the rest took 0.5-0.8 s,
+    a sixth of a warm `clearance run`."""
+    try:
+        app()
+        code = 0
+    except SystemExit as e:
+        code = e.code
+    if len(sys.argv) > 1 and sys.argv[1] in _FAST_EXIT:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code if isinstance(code, int) else (0 if code is None else 1))
+    sys.exit(code)
+
+
+if __name__ == "__main__":  # python -m clearance.cli.main
+    main()
