@@ -217,3 +217,40 @@ def test_sps_cu_lumped_actuator_forces_match_two_body_ik_model(tmp_path):
     F1 = r1.driver_force[:n]
     F2 = np.column_stack([r2.actuator_force(f"drive_{k}") for k in range(1, 5)])[:n]
     assert np.max(np.abs(F1 - F2)) < 1e-4 * np.max(np.abs(F2))
+
+
+def test_compile_notice_says_when_kernels_compile():
+    """A compile is announced at once, with progress, and summed up; loading from the
+    cache (or an already compiled function) says nothing."""
+    import numba
+
+    from clearance.pipeline import CompileNotice
+
+    @numba.njit(cache=False)
+    def fresh(x):
+        return x + 1
+
+    lines: list[str] = []
+    with CompileNotice(lines.append, every=0.0) as notice:
+        fresh(1)
+        fresh(2.0)
+    assert notice.compiled == 2
+    assert "compiling the kernels (one time" in lines[0]
+    assert any("2 functions compiled" in ln for ln in lines)
+    assert lines[-1].strip().startswith("compiled 2 functions in")
+    lines.clear()
+    with CompileNotice(lines.append) as notice:
+        fresh(3)
+    assert notice.compiled == 0 and lines == []
+
+
+def test_warmup_leaves_nothing_to_compile(tmp_path):
+    from clearance.pipeline import CompileNotice, warmup
+
+    out = warmup(log=None)
+    assert out["cache"] and out["functions"] >= 0
+    with CompileNotice(None) as notice:
+        for name in ("ups_upu", "sps_cu"):
+            s = short(name, **{"trajectory.duration": 0.005, "solver.method": "rk4"})
+            run_scenario(s, out_dir=tmp_path / name, log=None)
+    assert notice.compiled == 0

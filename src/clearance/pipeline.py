@@ -34,6 +34,9 @@ from clearance.scenario.build import with_clearances
 from clearance.scenario.schema import InitialPlacement, Scenario
 from clearance.store.result import Result
 
+# what a cold compile (empty kernel cache) takes on the project machine, for the notice
+COLD_COMPILE_NOTE = "one time, about 2 min on the project machine (2 cores); cached afterwards"
+
 # RMS comparisons skip the settling of the ball into first contact (mechanisms.md 1.6)
 SKIP_SETTLING = 0.05  # [s] PROPOSED
 IK_SPACING = 0.02  # [s] IK samples; quintic Hermite drives between them (errors ~1e-11 m)
@@ -250,6 +253,58 @@ def _with_lumped_actuator_forces(r: Result, s: Scenario) -> Result:
     return replace(r, driver_force=F, driver_names=tuple(f"drive_{k}" for k in range(1, 5)))
 
 
+class CompileNotice:
+    """Says so when numba compiles kernels (the first run after installing or updating,
+    or with a new kernel cache), with progress every `every` seconds, instead of a silent
+    wait. Use as a context manager around the first calls of the kernels; `.compiled`
+    counts the functions compiled (0: everything came from the cache)."""
+
+    def __init__(self, log: Callable[[str], None] | None, every: float = 10.0) -> None:
+        self.log, self.every = log, every
+        self.compiled = 0
+        self._t0 = self._last = 0.0
+
+    def __enter__(self) -> CompileNotice:
+        from numba.core import event
+
+        notice = self
+
+        class _Listener(event.Listener):
+            def on_start(self, ev) -> None:
+                notice._on_start(ev)
+
+            def on_end(self, ev) -> None:
+                pass
+
+        self._cm = event.install_listener("numba:compile", _Listener())
+        self._cm.__enter__()
+        return self
+
+    def _on_start(self, ev) -> None:
+        now = time.perf_counter()
+        if self.compiled == 0:
+            self._t0 = self._last = now
+            _say(self.log, f"      compiling the kernels ({COLD_COMPILE_NOTE}) ...")
+        self.compiled += 1
+        if now - self._last >= self.every:
+            self._last = now
+            name = getattr(ev.data["dispatcher"], "__name__", "?")
+            _say(
+                self.log,
+                f"      ... {now - self._t0:4.0f} s, {self.compiled} functions compiled "
+                f"(now: {name})",
+            )
+
+    def __exit__(self, *exc) -> None:
+        self._cm.__exit__(*exc)
+        if self.compiled:
+            _say(
+                self.log,
+                f"      compiled {self.compiled} functions in "
+                f"{time.perf_counter() - self._t0:.0f} s (cached from now on)",
+            )
+
+
 class StageTimer(dict):
     """Wall time per stage [s]: `with timer("write"): ...` adds to timer["write"]."""
 
@@ -313,7 +368,7 @@ def run_scenario(
         out = Path(out_dir if out_dir is not None else s.output.folder)
         _say(log, f"[1/5] building '{s.name}' ({s.mechanism.type.value})")
         ideal, clr, info = build_mechanisms(s)
-    with timer("inverse_kinematics"):
+    with timer("inverse_kinematics"), CompileNotice(log):
         t_end = info.t_end
         n_ik = max(2, int(round(t_end / IK_SPACING)) + 1)
         times = np.linspace(0.0, t_end, n_ik)
@@ -331,7 +386,7 @@ def run_scenario(
         f"      drive Jacobian: min sigma {ik.min_sigma:.3g}, max condition {ik.max_condition:.3g}",
     )
     kw = dict(info.simulate_kwargs)
-    with timer("kernels"):
+    with timer("kernels"), CompileNotice(log):
         ci = compile_mechanism(ideal)
         cc = compile_mechanism(clr)
         # load (or, on a fresh install, build once) the compiled kernel before the timed
@@ -343,8 +398,6 @@ def run_scenario(
                 t_out=np.array([0.0, 1e-9]),
                 **{k: v for k, v in kw.items() if k not in ("dt_out", "t_out")},
             )
-    if timer["kernels"] > 2.0:
-        _say(log, f"      compiled the kernel in {timer['kernels']:.0f} s (cached from now on)")
     with timer("ideal"):
         _say(log, "[3/5] ideal mechanism")
         r_ideal = simulate(ci, t_end, **kw)
@@ -430,3 +483,39 @@ def write_outputs(
                 ds, out / "figures", platform=platform, formats=(s.output.figure_format,)
             )
     return files
+
+
+def warmup(log: Callable[[str], None] | None = print) -> dict:
+    """Compile (or load from the cache) every kernel a scenario run uses, ahead of time:
+    for cluster nodes and containers, so that no run pays the one-time compile. Runs the
+    default 4UPS-UPU scenario for 10 ms with each integration method and the 4-SPS/CU one
+    with its own (nothing is written but a temporary folder). Returns {"functions": number
+    compiled (0: all were cached), "seconds": wall time, "cache": the cache folder}."""
+    import tempfile
+
+    from clearance import _kernel_cache
+    from clearance.integrate.methods import METHODS
+    from clearance.scenario import default_scenario_path, with_overrides
+
+    t0 = time.perf_counter()
+    short = {"trajectory.duration": 0.01, "solver.dt_out": 1e-3, "output.figures": False}
+    jobs = [("ups_upu", m) for m in METHODS] + [("sps_cu", None)]
+    n = 0
+    with tempfile.TemporaryDirectory() as tmp, CompileNotice(log) as notice:
+        for k, (name, method) in enumerate(jobs):
+            over = dict(short, **({"solver.method": method} if method else {}))
+            s = with_overrides(load_scenario(default_scenario_path(name)), over)
+            _say(log, f"[{k + 1}/{len(jobs)}] {name}, {s.solver.method}")
+            run_scenario(s, out_dir=Path(tmp) / str(k), log=None)
+        n = notice.compiled
+    out = {
+        "functions": n,
+        "seconds": time.perf_counter() - t0,
+        "cache": str(_kernel_cache.cache_dir()),
+    }
+    _say(
+        log,
+        f"kernels ready in {out['seconds']:.0f} s ({n} functions compiled"
+        f"{'' if n else ': all were cached'}); cache: {out['cache']}",
+    )
+    return out

@@ -184,6 +184,15 @@ def run(
 
 
 @app.command()
+def warmup() -> None:
+    """Compile every kernel ahead of time (for cluster nodes and images): later runs start
+    at once. The kernel cache is $CLEARANCE_CACHE_DIR, else ~/.cache/clearance."""
+    from clearance.pipeline import warmup as _warmup
+
+    _warmup(log=typer.echo)
+
+
+@app.command()
 def plot(
     result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
     out: Path = typer.Option(None, help="figure folder (default: <result folder>/figures)"),
@@ -324,7 +333,7 @@ def _load(path: Path, loader):
 
 
 # commands that leave nothing running when they return (no Dask cluster, no threads)
-_FAST_EXIT = {"run", "plot", "export", "check", "describe", "example", "examples"}
+_FAST_EXIT = {"run", "plot", "export", "check", "describe", "example", "examples", "warmup"}
 
 
 def main() -> None:  # pragma: no cover - the console script; tests call `app`
