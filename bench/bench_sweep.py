@@ -45,6 +45,17 @@ def _warm() -> float:
     return time.perf_counter() - t0
 
 
+def _integrating(rep, workers: int) -> float:
+    """Share of the workers' time (wall x workers) in the clearance runs' simulate()."""
+    import json
+
+    total = 0.0
+    for cid in rep.finished:
+        side = json.loads((rep.folder / "cases" / f"{cid}.json").read_text())
+        total += float(side.get("timings", {}).get("clearance", 0.0))
+    return total / max(rep.wall_time * workers, 1e-12)
+
+
 def study_text(n_cases: int, duration: float, folder: Path) -> str:
     """The example study with n_cases cases (n_cases / 2 clearances x 2 mu_c values)."""
     from clearance.sweep.study import example_study_path
@@ -84,7 +95,7 @@ def main() -> None:
             _warm()
             s = loads_study(study_text(args.cases, args.duration, Path(tmp) / "serial"))
             rep = run_study(s, scheduler="serial", progress=False)
-            rows.append(("serial (in process)", 0.0, rep))
+            rows.append(("serial (in process)", 0.0, rep, _integrating(rep, 1)))
         for n in args.workers:
             t0 = time.perf_counter()
             cluster = LocalCluster(
@@ -95,24 +106,32 @@ def main() -> None:
             startup = time.perf_counter() - t0
             s = loads_study(study_text(args.cases, args.duration, Path(tmp) / f"w{n}"))
             rep = run_study(s, scheduler=client, progress=False)
+            share = _integrating(rep, n)
             client.close()
             cluster.close()
             assert rep.complete, rep.summary()
             per_worker = np.mean(list(warm.values()))
-            rows.append((f"LocalCluster, {n} worker{'s' * (n > 1)}", startup, rep))
+            rows.append((f"LocalCluster, {n} worker{'s' * (n > 1)}", startup, rep, share))
             print(
                 f"  {n} worker(s): cluster start + warm-up {startup:.1f} s "
                 f"(warm-up run {per_worker:.1f} s per worker)"
             )
     print()
-    print(f"  {'executor':<26s} {'wall [s]':>9s} {'cases/min':>10s} {'s/case':>8s}")
-    for label, _, rep in rows:
+    print(
+        f"  {'executor':<26s} {'wall [s]':>9s} {'cases/min':>10s} {'s/case':>8s} "
+        f"{'integrating':>12s}"
+    )
+    for label, _, rep, share in rows:
         n_done = len(rep.finished)
         print(
             f"  {label:<26s} {rep.wall_time:9.2f} {rep.throughput:10.1f} "
-            f"{rep.wall_time / max(n_done, 1):8.2f}"
+            f"{rep.wall_time / max(n_done, 1):8.2f} {100 * share:11.0f}%"
         )
-    tput = {label: rep.throughput for label, _, rep in rows}
+    print(
+        "  (integrating: the clearance simulate() calls' share of the workers' time, "
+        "wall x workers; issue 10: at least 80 %)"
+    )
+    tput = {label: rep.throughput for label, _, rep, _ in rows}
     one, two = "LocalCluster, 1 worker", "LocalCluster, 2 workers"
     if one in tput and two in tput and tput[one] > 0:
         print(f"\n  throughput ratio 2 workers / 1 worker: {tput[two] / tput[one]:.2f}")

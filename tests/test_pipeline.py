@@ -254,3 +254,26 @@ def test_warmup_leaves_nothing_to_compile(tmp_path):
             s = short(name, **{"trajectory.duration": 0.005, "solver.method": "rk4"})
             run_scenario(s, out_dir=tmp_path / name, log=None)
     assert notice.compiled == 0
+
+
+def test_reuse_ideal_between_clearance_only_variations(tmp_path):
+    """A case that changes only clearance parameters reuses the previous case's inverse
+    kinematics and ideal run and gets exactly the results of running it afresh; a case
+    with another trajectory does not reuse them."""
+    import clearance.pipeline as P
+
+    base = short("ups_upu", **{"trajectory.duration": 0.02})
+    wide = with_overrides(base, {"clearance.joints.S_1.radial_clearance": 0.4e-3})
+    P._IDEAL_MEMO.clear()
+    first = run_scenario(base, out_dir=tmp_path / "a", reuse_ideal=True, log=None)
+    assert "reused_ideal" not in first.timings
+    again = run_scenario(wide, out_dir=tmp_path / "b", reuse_ideal=True, log=None)
+    assert again.timings["reused_ideal"] == 1.0 and again.ideal is first.ideal
+    fresh = run_scenario(wide, out_dir=tmp_path / "c", log=None)
+    for name in ("q", "v", "lam", "contact"):
+        a, b = getattr(again.clearance, name), getattr(fresh.clearance, name)
+        np.testing.assert_array_equal(a, b)
+    assert again.summary["deviation_rms"] == fresh.summary["deviation_rms"]
+    other = with_overrides(wide, {"trajectory.duration": 0.03})
+    third = run_scenario(other, out_dir=tmp_path / "d", reuse_ideal=True, log=None)
+    assert "reused_ideal" not in third.timings and third.ideal is not first.ideal

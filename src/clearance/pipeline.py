@@ -305,6 +305,25 @@ class CompileNotice:
             )
 
 
+# the inverse kinematics and the ideal run of the last run_scenario(reuse_ideal=True) in
+# this process, keyed by what they depend on (`_ideal_key`)
+_IDEAL_MEMO: dict = {}
+
+
+def _ideal_key(s: Scenario) -> str:
+    """What the inverse kinematics and the ideal run depend on: the mechanism, trajectory
+    and solver sections (not the clearance joints), and the package version."""
+    import hashlib
+    import json
+
+    from clearance.scenario.serialize import scenario_to_dict
+
+    d = scenario_to_dict(s)
+    part = {k: d.get(k) for k in ("mechanism", "trajectory", "solver")}
+    part["version"] = clearance.__version__
+    return hashlib.sha256(json.dumps(part, sort_keys=True, default=str).encode()).hexdigest()
+
+
 class StageTimer(dict):
     """Wall time per stage [s]: `with timer("write"): ...` adds to timer["write"]."""
 
@@ -346,6 +365,7 @@ def run_scenario(
     out_dir: str | Path | None = None,
     figures: bool | None = None,
     outputs: tuple[str, ...] | None = None,
+    reuse_ideal: bool = False,
     log: Callable[[str], None] | None = print,
 ) -> RunOutput:
     """Run a scenario (default: the shipped 4UPS-UPU one) and write its outputs.
@@ -353,7 +373,10 @@ def run_scenario(
     out_dir: output folder (default: the scenario's [output] folder). figures: override the
     scenario's [output] figures flag. outputs: result groups written besides the lean
     default (`clearance.io.outputs`; default: the scenario's [output] outputs).
-    log: progress messages (None: silent).
+    reuse_ideal: reuse the inverse kinematics and the ideal run of the previous call in
+    this process when they depend on nothing that changed (the mechanism, trajectory and
+    solver sections: a study varying only clearance parameters); the timings then say
+    reused_ideal = 1. log: progress messages (None: silent).
     A run that fails part-way keeps and writes what it computed; its status says why.
     `RunOutput.timings` holds the wall time of each stage (`STAGES`) and the total.
     """
@@ -368,19 +391,27 @@ def run_scenario(
         out = Path(out_dir if out_dir is not None else s.output.folder)
         _say(log, f"[1/5] building '{s.name}' ({s.mechanism.type.value})")
         ideal, clr, info = build_mechanisms(s)
+    key = _ideal_key(s) if reuse_ideal else None
+    if key is not None and key in _IDEAL_MEMO:
+        _say(log, "[2/5] inverse kinematics and ideal run: the same as the previous case")
+        ik, ideal, r_ideal = _IDEAL_MEMO[key]
+        _, clr, info = build_mechanisms(s, drives=drives_from_ik(ik))
+    else:
+        ik = r_ideal = None
     with timer("inverse_kinematics"), CompileNotice(log):
         t_end = info.t_end
         n_ik = max(2, int(round(t_end / IK_SPACING)) + 1)
         times = np.linspace(0.0, t_end, n_ik)
-        _say(log, f"[2/5] inverse kinematics: {n_ik} poses over {t_end:g} s")
-        ik = inverse_kinematics(
-            info.ik_mechanism or ideal,
-            info.platform_trajectory(),
-            platform_marker=info.platform_marker,
-            actuators=info.actuators,
-            times=times,
-        )
-        ideal, clr, info = build_mechanisms(s, drives=drives_from_ik(ik))
+        if ik is None:
+            _say(log, f"[2/5] inverse kinematics: {n_ik} poses over {t_end:g} s")
+            ik = inverse_kinematics(
+                info.ik_mechanism or ideal,
+                info.platform_trajectory(),
+                platform_marker=info.platform_marker,
+                actuators=info.actuators,
+                times=times,
+            )
+            ideal, clr, info = build_mechanisms(s, drives=drives_from_ik(ik))
     _say(
         log,
         f"      drive Jacobian: min sigma {ik.min_sigma:.3g}, max condition {ik.max_condition:.3g}",
@@ -398,10 +429,18 @@ def run_scenario(
                 t_out=np.array([0.0, 1e-9]),
                 **{k: v for k, v in kw.items() if k not in ("dt_out", "t_out")},
             )
-    with timer("ideal"):
-        _say(log, "[3/5] ideal mechanism")
-        r_ideal = simulate(ci, t_end, **kw)
-    _say(log, f"      {r_ideal.message}; wall {r_ideal.stats['wall_time']:.3f} s")
+    if r_ideal is None:
+        with timer("ideal"):
+            _say(log, "[3/5] ideal mechanism")
+            r_ideal = simulate(ci, t_end, **kw)
+        _say(log, f"      {r_ideal.message}; wall {r_ideal.stats['wall_time']:.3f} s")
+        if key is not None:
+            _IDEAL_MEMO.clear()  # one entry: the memory of one ideal run
+            _IDEAL_MEMO[key] = (ik, ideal, r_ideal)
+    else:
+        ci = r_ideal.compiled
+        timer["ideal"] = 0.0
+        timer["reused_ideal"] = 1.0
     with timer("clearance"):
         _say(
             log,

@@ -147,7 +147,7 @@ def run_case(task: Mapping[str, Any]) -> dict:
         # a local lock for the NetCDF write: inside a Dask worker xarray would otherwise take
         # a cluster-wide lock, a scheduler round trip that fails while the cluster shuts down
         with dask.config.set(scheduler="synchronous"):
-            out = run_scenario(s, out_dir=folder / CASES, figures=False, log=None)
+            out = run_scenario(s, out_dir=folder / CASES, figures=False, reuse_ideal=True, log=None)
         metrics = compute_metrics(CaseData.from_run(out), task["metrics"])
     except Exception as e:
         info.update(
