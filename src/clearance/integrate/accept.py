@@ -113,10 +113,10 @@ def start(model, wk, cs, opts, out, t0, y):
         out.stats[k] = 0.0
     out.stats[ST_HMIN] = np.inf
     if opts.proj_tol > 0.0:
-        st = project(model, wk, t0, y, opts.solver, opts.proj_tol, 5)
+        st = project(model, wk, t0, y, opts.solver, opts.proj_tol, np.int64(5))
         if st != 0:
             return _SINGULAR, 0, 0
-    nlog = 0
+    nlog = np.int64(0)
     if model.nclr > 0:
         _, nlog = update_contacts(model, wk, cs, t0, y, out.log, nlog)
     iout = 0
@@ -133,7 +133,7 @@ def sample(model, wk, cs, opts, out, i):
     (the interpolant is off the manifold by its own error) or normalise its quaternions,
     and record the contact state. Returns the status of the projection."""
     if opts.proj_tol > 0.0:
-        st = project(model, wk, out.t_out[i], out.Y[i], opts.solver, opts.proj_tol, 3)
+        st = project(model, wk, out.t_out[i], out.Y[i], opts.solver, opts.proj_tol, np.int64(3))
         if st != 0:
             return st
     else:
@@ -157,7 +157,7 @@ def after_step(model, wk, cs, opts, out, t, y, kfsal, nlog, cut):
         changed = changed or ch
     normalise_quaternions(model, y, kfsal)
     if opts.proj_tol > 0.0:
-        st = project(model, wk, t, y, opts.solver, opts.proj_tol, 3)
+        st = project(model, wk, t, y, opts.solver, opts.proj_tol, np.int64(3))
         out.stats[ST_NPROJ] += 1
         if st != 0:
             return _SINGULAR, changed, nlog

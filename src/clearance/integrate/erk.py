@@ -71,7 +71,7 @@ def erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
     stats[ST_NFEV] += 1
     if st != 0:
         return _SINGULAR, iout, t, nlog
-    track_peaks(wk, t, out.PK, True)
+    track_peaks(wk, t, out.PK, np.bool_(True))
     # initial step (Hairer & Wanner I, II.4)
     h = opts.h0
     if h <= 0.0:
@@ -191,7 +191,7 @@ def erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
                 for i in range(ny):
                     K[0, i] = K[6, i]  # FSAL
             # the last evaluation was f(t, y): stage 7 at the new solution, or the re-evaluation
-            track_peaks(wk, t, out.PK, False)
+            track_peaks(wk, t, out.PK, np.bool_(False))
             if rejected:
                 hnew = min(hnew, h)
             rejected = False

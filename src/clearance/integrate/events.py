@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from clearance.contact.element import eccentricity, gap_of, point_contact, point_gap
@@ -129,7 +130,7 @@ def _pose_interp(model, wk, b, y, K, P, h, x):
         _interp1(y, K, h, q + 4, w),
         _interp1(y, K, h, q + 5, w),
         _interp1(y, K, h, q + 6, w),
-        False,
+        np.bool_(False),
     )
 
 
@@ -166,8 +167,8 @@ def _slides(model, wk, k, t):
 def _place(model, wk, k, t, y, K, P, h, x):
     """The two bodies of clearance joint k at t + x h on the dense output (x = 0: y)."""
     if x == 0.0:
-        _pose_at(model, wk, model.clr_ix[k, CI_BS], y, False)
-        _pose_at(model, wk, model.clr_ix[k, CI_BB], y, False)
+        _pose_at(model, wk, model.clr_ix[k, CI_BS], y, np.bool_(False))
+        _pose_at(model, wk, model.clr_ix[k, CI_BB], y, np.bool_(False))
         _slides(model, wk, k, t)
     else:
         _pose_interp(model, wk, model.clr_ix[k, CI_BS], y, K, P, h, x)
@@ -273,8 +274,8 @@ def update_contacts(model, wk, cs, t, y, log, nlog):
     for k in range(model.nclr):
         s = model.clr_ix[k, CI_BS]
         b = model.clr_ix[k, CI_BB]
-        _pose_at(model, wk, s, y, True)
-        _pose_at(model, wk, b, y, True)
+        _pose_at(model, wk, s, y, np.bool_(True))
+        _pose_at(model, wk, b, y, np.bool_(True))
         _slides(model, wk, k, t)
         for p in range(model.clr_ix[k, CI_P0], model.clr_ix[k, CI_P0] + model.clr_ix[k, CI_NP]):
             # the gap alone (positions) decides; the rates and the normal only where needed
