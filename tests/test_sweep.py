@@ -492,3 +492,42 @@ def test_collect_of_a_folder_that_is_not_a_study(tmp_path):
     with pytest.raises(StudyError, match="not a study folder"):
         collect_study(tmp_path)
     assert os.listdir(tmp_path) == []
+
+
+def test_study_plots_carry_units_and_mark_failed_and_stopped_cases(serial, tmp_path):
+    """Parameter axes have units; a failed case is a red x at its parameter value; a case
+    whose run stopped early has its values circled in red (the table says success False)."""
+    from clearance.sweep.collect import parameter_unit, plot_study, study_table
+    from clearance.sweep.store import read_manifest
+
+    study, _ = serial
+    table = study_table(study.folder)
+    assert table["success"].all()
+    man = read_manifest(study.folder)
+    table.loc[0, "status"] = "failed"
+    table.loc[1, "success"] = False
+    assert parameter_unit("clearance.joints.S_1.radial_clearance") == "m"
+    assert parameter_unit("no.such.field") == ""
+
+    import unittest.mock as mock
+
+    from clearance.plot import figures as F
+
+    captured = {}
+    real = F.save_figure
+
+    def grab(fig, out_dir, stem, formats):
+        captured[stem] = fig
+        return real(fig, out_dir, stem, formats)
+
+    with mock.patch.object(F, "save_figure", grab):
+        files = plot_study(table, man, tmp_path)
+    assert len(files) == 2 and all(p.stat().st_size > 1000 for p in files)
+    fig = captured["radial_clearance"]
+    ax = fig.get_axes()[0]
+    assert ax.get_xlabel() == "radial_clearance [m]"
+    (x,) = [ln for ln in ax.get_lines() if ln.get_label() == "failed"]
+    assert x.get_xdata()[0] == table.loc[0, "radial_clearance"]
+    (o,) = [ln for ln in ax.get_lines() if ln.get_label() == "stopped early"]
+    metric = man["metrics"][0]
+    assert o.get_ydata()[0] == table.loc[1, metric]

@@ -28,7 +28,14 @@ from typing import Any
 import numpy as np
 
 from clearance.sweep.metrics import METRICS, CaseData, compute_metrics, split_metric
-from clearance.sweep.store import FINISHED, case_files, is_finished, read_json, read_manifest
+from clearance.sweep.store import (
+    FAILED,
+    FINISHED,
+    case_files,
+    is_finished,
+    read_json,
+    read_manifest,
+)
 from clearance.sweep.study import Case
 
 __all__ = ["CollectOutput", "collect_study", "plot_study", "study_table"]
@@ -66,8 +73,9 @@ def _cases(manifest: Mapping) -> list[Case]:
 def study_table(folder: str | os.PathLike, *, metrics: Sequence[str] | None = None):
     """The summary table of a study folder (pandas DataFrame, one row per case).
 
-    Columns: case, index, status, one per parameter (its name), one per metric, attempts,
-    reason, worker, result_file. metrics: default the study's; a metric missing from a
+    Columns: case, index, status, one per parameter (its name), one per metric, success
+    (finished cases: both runs reached the final time; False: a run stopped early),
+    attempts, reason, worker, result_file. metrics: default the study's; a metric missing from a
     finished case's sidecar (added to the registry later) is computed from its saved files.
     """
     import pandas as pd
@@ -91,6 +99,7 @@ def study_table(folder: str | os.PathLike, *, metrics: Sequence[str] | None = No
             vals.update(compute_metrics(CaseData.from_files(nc, s), todo))
         row.update({m: float(vals.get(m, math.nan)) for m in names})
         row.update(
+            success=bool(s.get("success", True)) if status == FINISHED else None,
             attempts=int(s.get("attempts", 0)),
             reason=str(s.get("reason", "")) if status != FINISHED else "",
             worker=str(s.get("worker", "")),
@@ -176,13 +185,51 @@ def _safe(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "parameter"
 
 
+def parameter_unit(path: str) -> str:
+    """The unit of a scenario field by its dotted path's last name ("radial_clearance" ->
+    "m"), "" when unknown or ambiguous."""
+    from clearance.scenario import schema
+    from clearance.scenario.fields import Field
+
+    units = set()
+    name = path.rsplit(".", 1)[-1]
+    for table in vars(schema).values():
+        if isinstance(table, dict) and isinstance(table.get(name), Field):
+            units.add(table[name].unit)
+    return units.pop() if len(units) == 1 else ""
+
+
+def _positions(rows, name: str, numeric: bool, cats: list[str]) -> np.ndarray:
+    """x positions of table rows against parameter `name` (category index if not numeric)."""
+    vals = list(rows[name])
+    return np.asarray(vals if numeric else [cats.index(str(v)) for v in vals], dtype=float)
+
+
+def _mark_cases(ax, x: np.ndarray, kind: str) -> None:
+    """Cases without a value at their parameter value x: failed (red x) or stopped early
+    (red circle), on the panel's lower edge."""
+    if x.size == 0:
+        return
+    tr = ax.get_xaxis_transform()  # x in data, y in axes fraction
+    style = (
+        {"marker": "x", "color": "C3", "label": "failed"}
+        if kind == "failed"
+        else {"marker": "o", "mfc": "none", "color": "C3", "label": "stopped early"}
+    )
+    ax.plot(x, np.full(x.size, 0.03), linestyle="none", transform=tr, clip_on=False, **style)
+
+
 def plot_study(table, man: Mapping, out_dir: str | os.PathLike, *, fmt: str = "png") -> list[Path]:
     """One figure per varied parameter: a panel per metric against that parameter, one line
-    per combination of the other parameters (at most MAX_LINES, else points only)."""
+    per combination of the other parameters (at most MAX_LINES, else points only). Axes
+    carry units; failed cases (no values) are marked with a red x on the lower edge, and
+    the values of cases whose runs stopped early are circled in red."""
     from matplotlib.figure import Figure
 
     from clearance.plot.figures import save_figure
 
+    failed = table[table["status"] == FAILED]
+    stopped = table[(table["status"] == FINISHED) & (table.get("success") == False)]  # noqa: E712
     done = table[table["status"] == FINISHED]
     metrics = [m for m in man["metrics"] if m in done]
     if done.empty or not metrics:
@@ -193,7 +240,7 @@ def plot_study(table, man: Mapping, out_dir: str | os.PathLike, *, fmt: str = "p
         others = [q["name"] for q in man["parameters"] if q["name"] != name]
         xs_all = list(done[name])
         numeric = _numeric(xs_all)
-        cats = sorted({str(x) for x in xs_all})
+        cats = sorted({str(x) for x in xs_all + list(failed[name])})
         groups = list(done.groupby(others, sort=True)) if others else [((), done)]
         lines = len(groups) <= MAX_LINES
         ncol = min(3, len(metrics))
@@ -219,7 +266,21 @@ def plot_study(table, man: Mapping, out_dir: str | os.PathLike, *, fmt: str = "p
             base, joint = split_metric(m)
             unit = METRICS[base].unit if base in METRICS else ""
             ax.set_ylabel(f"{m} [{unit}]" if unit and unit != "1" else m)
-            ax.set_xlabel(name.rsplit(".", 1)[-1] if "." in name else name)
+            short = name.rsplit(".", 1)[-1] if "." in name else name
+            xu = parameter_unit(name)
+            ax.set_xlabel(f"{short} [{xu}]" if xu and xu != "1" else short)
+            _mark_cases(ax, _positions(failed, name, numeric, cats), "failed")
+            if not stopped.empty:
+                ax.plot(
+                    _positions(stopped, name, numeric, cats),
+                    np.asarray(stopped[m], dtype=float),
+                    linestyle="none",
+                    marker="o",
+                    markersize=8,
+                    mfc="none",
+                    color="C3",
+                    label="stopped early",
+                )
             if p.get("scale") == "log" and numeric:
                 ax.set_xscale("log")
             if not numeric:
@@ -227,7 +288,7 @@ def plot_study(table, man: Mapping, out_dir: str | os.PathLike, *, fmt: str = "p
             ax.grid(True, alpha=0.3)
         for ax in axes[len(metrics) :]:
             ax.set_visible(False)
-        if lines and others:
+        if (lines and others) or not failed.empty or not stopped.empty:
             axes[0].legend(fontsize="x-small")
         fig.suptitle(f"study '{man['name']}': metrics against {name}", fontsize="medium")
         files += save_figure(fig, out_dir, _safe(name), (fmt,))
