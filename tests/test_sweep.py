@@ -486,6 +486,8 @@ def test_collect_dataset_table_and_plots(serial):
     assert again == side["metrics"]
     r = CliRunner().invoke(app, ["collect", str(study.folder), "--no-dataset", "--no-plots"])
     assert r.exit_code == 0 and "6 finished" in r.output
+    r = CliRunner().invoke(app, ["plot", str(out.dataset), "--out", str(study.folder / "f")])
+    assert r.exit_code == 2 and "collected study" in r.output and "Traceback" not in r.output
 
 
 def test_collect_of_a_folder_that_is_not_a_study(tmp_path):
