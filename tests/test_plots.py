@@ -306,3 +306,22 @@ def test_parallel_rendering_writes_the_same_files(loaded, tmp_path):
     for a, b in zip(serial, forked, strict=True):
         assert a.read_bytes() == b.read_bytes(), a.name
     assert sorted(os.listdir(tmp_path / "two")) == sorted(p.name for p in forked)
+
+
+def test_figures_render_in_this_process_when_threads_run(loaded, tmp_path, monkeypatch):
+    """Forking a process with other threads can deadlock a child: no fork then."""
+    import threading
+
+    import clearance.plot.figures as F
+
+    assert F._jobs(2, 7) == 2 or threading.active_count() > 1
+    stop = threading.Event()
+    t = threading.Thread(target=stop.wait, daemon=True)
+    t.start()
+    try:
+        assert F._jobs(2, 7) == 1
+        monkeypatch.setattr(F, "_render_one", None)  # a fork would fail on it
+        assert len(plot_all(loaded, tmp_path, jobs=2)) == 6
+    finally:
+        stop.set()
+        t.join()

@@ -51,6 +51,7 @@ import gc
 import json
 import os
 import re
+import threading
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
@@ -860,7 +861,8 @@ def _render(builders, out_dir: Path, formats: Sequence[str]) -> list[Path]:
 
 def _jobs(jobs: int | None, n: int) -> int:
     """Worker processes for n figures: `jobs`, or (None) one per available core, at most
-    4; 1 where processes cannot be forked (the figures then render in this process)."""
+    4; 1 where processes cannot be forked safely (no fork on the platform, or other
+    threads running in this process): the figures then render in this process."""
     import multiprocessing
 
     if jobs is None:
@@ -871,6 +873,8 @@ def _jobs(jobs: int | None, n: int) -> int:
         jobs = min(cores, 4)
     if "fork" not in multiprocessing.get_all_start_methods():
         return 1
+    if threading.active_count() > 1:  # forking a threaded process (Jupyter, Dask) can
+        return 1  # deadlock a child on a lock another thread held: draw them here
     return max(1, min(int(jobs), n))
 
 
