@@ -277,3 +277,30 @@ def test_reuse_ideal_between_clearance_only_variations(tmp_path):
     other = with_overrides(wide, {"trajectory.duration": 0.03})
     third = run_scenario(other, out_dir=tmp_path / "d", reuse_ideal=True, log=None)
     assert "reused_ideal" not in third.timings and third.ideal is not first.ideal
+
+
+def test_cold_compile_children_leave_the_results_unchanged(tmp_path, monkeypatch):
+    """With a cold cache (forced here), compile children are forked and joined; the run
+    is the same bit for bit. The children then find every kernel cached, so this stays
+    fast; bench/bench_run.py --cold measures a real cold start."""
+    import clearance.pipeline as P
+
+    s = short("ups_upu", **{"trajectory.duration": 0.01})
+    plain = run_scenario(s, out_dir=tmp_path / "a", log=None)
+    started = []
+    real_init = P.ColdCompile.__init__
+
+    def spy(self, *a, **k):
+        real_init(self, *a, **k)
+        started.append(self.child is not None)
+
+    monkeypatch.setattr(P, "_kernels_cached", lambda: False)
+    monkeypatch.setattr(P.ColdCompile, "__init__", spy)
+    cold = run_scenario(s, out_dir=tmp_path / "b", log=None)
+    assert started == [True]
+    for name in ("q", "v", "lam", "contact"):
+        a, b = getattr(plain.clearance, name), getattr(cold.clearance, name)
+        np.testing.assert_array_equal(a, b)
+    monkeypatch.setattr(P, "_kernels_cached", lambda: True)
+    run_scenario(s, out_dir=tmp_path / "c", log=None)
+    assert started == [True, False]  # a warm cache forks nothing
