@@ -14,7 +14,6 @@ import contextlib
 import math
 import time
 from collections.abc import Callable
-from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -273,15 +272,17 @@ class ColdCompile:
     nothing but time, as this process then compiles what is missing.
     """
 
-    def __init__(self, cc: Compiled, method: str, log: Callable[[str], None] | None) -> None:
+    def __init__(self, clr: Mechanism, method: str) -> None:
         import multiprocessing
         import threading
 
-        self.cc, self.method, self.log = cc, method, log
         self.child = None
-        if not cc.nclr or _kernels_cached() or threading.active_count() > 1:
+        if _kernels_cached() or threading.active_count() > 1:
             return
         if "fork" not in multiprocessing.get_all_start_methods():
+            return
+        self.cc = cc = compile_mechanism(clr)  # only when cold: a warm run needs none
+        if not cc.nclr:
             return
         try:
             self.child = multiprocessing.get_context("fork").Process(
@@ -479,7 +480,7 @@ def _ideal_key(s: Scenario) -> str:
 class StageTimer(dict):
     """Wall time per stage [s]: `with timer("write"): ...` adds to timer["write"]."""
 
-    @contextmanager
+    @contextlib.contextmanager
     def __call__(self, stage: str):
         t0 = time.perf_counter()
         try:
@@ -543,7 +544,7 @@ def run_scenario(
         out = Path(out_dir if out_dir is not None else s.output.folder)
         _say(log, f"[1/5] building '{s.name}' ({s.mechanism.type.value})")
         ideal, clr, info = build_mechanisms(s)
-    cold = ColdCompile(compile_mechanism(clr), info.simulate_kwargs["method"], log)
+    cold = ColdCompile(clr, info.simulate_kwargs["method"])
     key = _ideal_key(s) if reuse_ideal else None
     if key is not None and key in _IDEAL_MEMO:
         _say(log, "[2/5] inverse kinematics and ideal run: the same as the previous case")
