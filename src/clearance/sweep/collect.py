@@ -205,18 +205,21 @@ def _positions(rows, name: str, numeric: bool, cats: list[str]) -> np.ndarray:
     return np.asarray(vals if numeric else [cats.index(str(v)) for v in vals], dtype=float)
 
 
-def _mark_cases(ax, x: np.ndarray, kind: str) -> None:
-    """Cases without a value at their parameter value x: failed (red x) or stopped early
-    (red circle), on the panel's lower edge."""
+def _mark_failed(ax, x: np.ndarray) -> None:
+    """Failed cases (no values) at their parameter values x: red x on the lower edge."""
     if x.size == 0:
         return
     tr = ax.get_xaxis_transform()  # x in data, y in axes fraction
-    style = (
-        {"marker": "x", "color": "C3", "label": "failed"}
-        if kind == "failed"
-        else {"marker": "o", "mfc": "none", "color": "C3", "label": "stopped early"}
+    ax.plot(
+        x,
+        np.full(x.size, 0.03),
+        linestyle="none",
+        marker="x",
+        color="C3",
+        label="failed",
+        transform=tr,
+        clip_on=False,
     )
-    ax.plot(x, np.full(x.size, 0.03), linestyle="none", transform=tr, clip_on=False, **style)
 
 
 def plot_study(table, man: Mapping, out_dir: str | os.PathLike, *, fmt: str = "png") -> list[Path]:
@@ -269,7 +272,7 @@ def plot_study(table, man: Mapping, out_dir: str | os.PathLike, *, fmt: str = "p
             short = name.rsplit(".", 1)[-1] if "." in name else name
             xu = parameter_unit(name)
             ax.set_xlabel(f"{short} [{xu}]" if xu and xu != "1" else short)
-            _mark_cases(ax, _positions(failed, name, numeric, cats), "failed")
+            _mark_failed(ax, _positions(failed, name, numeric, cats))
             if not stopped.empty:
                 ax.plot(
                     _positions(stopped, name, numeric, cats),
