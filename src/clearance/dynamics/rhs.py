@@ -9,7 +9,7 @@ compiled with `_nrt=False`, i.e. without numba's reference counting. With it, ev
 that passes the Model / Work named tuples increfs and decrefs each of their ~70 arrays
 (atomic operations), and every array view (`bA[b]`) does the same: that cost about 40 % of
 a right-hand side. The kernels never allocate, so they need no reference counting; the few
-helpers that do allocate (LAPACK inverse, dense LU, least squares) are compiled with
+helpers that do allocate (dense LU, least squares) are compiled with
 `_nrt=True` and called from the kernels as usual. Callees without the option inherit it from
 the first caller that compiles them, which only changes their speed, never their results.
 """
@@ -130,11 +130,25 @@ def update_inertia(model, wk):
         _inverse(wk.bJ[b], wk.bJinv[b])
 
 
-@njit(cache=True, error_model="numpy", _nrt=True)
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _inverse(A, out):
-    """out = A^-1 (LAPACK, allocates: compiled with reference counting, see the module
-    docstring)."""
-    out[:, :] = np.linalg.inv(A)
+    """out = A^-1 of a 3x3 matrix by its cofactors (adjugate / determinant). For the
+    symmetric positive definite inertias it inverts, the relative error is of the order
+    cond(A) x machine epsilon, as with LAPACK's LU; `np.linalg.inv` here cost ~3.5 s of
+    every cold compile (its LAPACK wrapper and error machinery) for nine products."""
+    c00 = A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1]
+    c01 = A[1, 2] * A[2, 0] - A[1, 0] * A[2, 2]
+    c02 = A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]
+    r = 1.0 / (A[0, 0] * c00 + A[0, 1] * c01 + A[0, 2] * c02)
+    out[0, 0] = c00 * r
+    out[1, 0] = c01 * r
+    out[2, 0] = c02 * r
+    out[0, 1] = (A[0, 2] * A[2, 1] - A[0, 1] * A[2, 2]) * r
+    out[1, 1] = (A[0, 0] * A[2, 2] - A[0, 2] * A[2, 0]) * r
+    out[2, 1] = (A[0, 1] * A[2, 0] - A[0, 0] * A[2, 1]) * r
+    out[0, 2] = (A[0, 1] * A[1, 2] - A[0, 2] * A[1, 1]) * r
+    out[1, 2] = (A[0, 2] * A[1, 0] - A[0, 0] * A[1, 2]) * r
+    out[2, 2] = (A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]) * r
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
