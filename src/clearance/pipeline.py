@@ -276,7 +276,7 @@ class ColdCompile:
         import multiprocessing
         import threading
 
-        self.child = None
+        self.child = self.ready = None
         if _kernels_cached() or threading.active_count() > 1:
             return
         if "fork" not in multiprocessing.get_all_start_methods():
@@ -285,21 +285,25 @@ class ColdCompile:
         if not cc.nclr:
             return
         try:
-            self.child = multiprocessing.get_context("fork").Process(
-                target=_compile_contact_kernels, args=(cc, method), daemon=True
+            ctx = multiprocessing.get_context("fork")
+            self.ready = ctx.Event()
+            self.child = ctx.Process(
+                target=_compile_contact_kernels, args=(cc, method, self.ready), daemon=True
             )
             self.child.start()
         except (OSError, AssertionError, RuntimeError):  # e.g. a daemonic process
             self.child = None
 
     def parent_part(self) -> None:
-        """The kernels this process compiles while the child works (after the IK)."""
+        """The kernels this process compiles while the child works (after the IK): the
+        applied forces, the projection, the right-hand side and, once the child has
+        compiled the contact update it calls, the loops' start."""
         if self.child is None:
             return
         from clearance.contact.element import make_contact_state
         from clearance.dynamics.forces import applied_forces
         from clearance.dynamics.rhs import make_work, rhs
-        from clearance.integrate.accept import project
+        from clearance.integrate.accept import project, start
 
         m = self.cc.model
         wk, cs = make_work(m), make_contact_state(m)
@@ -307,6 +311,11 @@ class ColdCompile:
         applied_forces(m, y, wk)
         project(m, wk, 0.0, y.copy(), 0, 1e-10, np.int64(1))
         rhs(0.0, y, m, wk, cs, 5.0, 5.0, 0, np.zeros_like(y))
+        # the child's contact update, then `start` (which calls it) from the cache; a
+        # child that never gets there only costs this process the compile of both
+        self.ready.wait(timeout=600)
+        opts, out = _loop_inputs(self.cc)
+        start(m, wk, cs, opts, out, 0.0, y)
 
     def join(self) -> None:
         """Wait for the contact kernels; then fork a second child for the post-processing,
@@ -383,14 +392,39 @@ def _kernels_cached() -> bool:
         return True
 
 
-def _compile_contact_kernels(cc: Compiled, method: str) -> None:  # pragma: no cover - child
+def _loop_inputs(cc: Compiled) -> tuple:
+    """(Options, Outputs) of the types `simulate` gives the loops, for compiling their
+    parts ahead of the loop (ColdCompile)."""
+    from clearance.integrate.simulate import loop_inputs
+
+    return loop_inputs(
+        cc,
+        np.array([0.0, 1e-9]),
+        alpha=5.0,
+        beta=5.0,
+        solver=0,
+        rtol=1e-6,
+        atol=1e-9,
+        h0=0.0,
+        hmax=np.inf,
+        hmin=1e-14,
+        max_steps=10,
+        proj_tol=0.0,
+        step=1e-3,
+        max_events=10,
+    )
+
+
+def _compile_contact_kernels(cc: Compiled, method: str, ready) -> None:  # pragma: no cover
     """In the forked child of ColdCompile: compile the contact forces, the event search and
-    the discrete contact update by calling them once on the clearance model."""
+    the discrete contact update by calling them once on the clearance model, say so
+    (`ready`), then compile the loops' on-accept hook, which calls them."""
     import os
 
     try:
         from clearance.contact.element import clearance_forces, make_contact_state
         from clearance.dynamics.rhs import make_work
+        from clearance.integrate.accept import after_step
         from clearance.integrate.events import locate_event
         from clearance.integrate.methods import METHODS
 
@@ -402,7 +436,11 @@ def _compile_contact_kernels(cc: Compiled, method: str) -> None:  # pragma: no c
         if data:  # the adaptive loops: their dense-output matrix P is the last item
             locate_event(m, wk, cs, 0.0, y, np.zeros((7, y.size)), data[-1], 1e-3)
         latch_contacts(cc, cs, 0.0, y)
+        ready.set()
+        opts, out = _loop_inputs(cc)
+        after_step(m, wk, cs, opts, out, 0.0, y, np.zeros(y.size), np.int64(0), False)
     finally:
+        ready.set()
         os._exit(0)
 
 

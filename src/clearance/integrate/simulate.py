@@ -187,26 +187,21 @@ def simulate(
     y = initial_state(c, t=t_start, y0=y0, assemble_positions=assemble_positions)
     code = _solver_code(c, solver, y, t_start)
     alpha, beta = (float(x) for x in baumgarte)
-    opts = Options(
+    opts, out = loop_inputs(
+        c,
+        t_out,
         alpha=alpha,
         beta=beta,
         solver=code,
-        rtol=float(rtol),
-        atol=float(atol),
-        h0=float(first_step),
-        hmax=float(max_step),
-        hmin=float(min_step),
-        max_steps=int(max_steps),
-        proj_tol=float(projection_tol) if projection else 0.0,
-        step=float(step),
-    )
-    out = Outputs(
-        t_out=t_out,
-        Y=prefaulted_zeros((t_out.size, c.ny)),
-        CS=prefaulted_zeros((t_out.size, c.ncp, 2)),  # per contact point: can be MBs
-        log=np.zeros((max_events if c.nclr else 0, NLOG)),
-        stats=np.zeros(NSTATS),
-        PK=np.zeros((c.nclr, 4)),
+        rtol=rtol,
+        atol=atol,
+        h0=first_step,
+        hmax=max_step,
+        hmin=min_step,
+        max_steps=max_steps,
+        proj_tol=projection_tol if projection else 0.0,
+        step=step,
+        max_events=max_events,
     )
     wk = make_work(c.model)
     cs = make_contact_state(c.model)
@@ -248,6 +243,23 @@ def simulate(
             projection_tol=projection_tol,
         ),
     )
+
+
+def loop_inputs(c: Compiled, t_out: np.ndarray, *, max_events: int, **opts) -> tuple:
+    """(Options, Outputs) of a compiled loop run of `c` sampled at `t_out`: the options
+    (alpha, beta, solver code, rtol, atol, h0, hmax, hmin, max_steps, proj_tol, step) as
+    the numbers the loops are compiled for, and zeroed output buffers."""
+    kinds = {"solver": int, "max_steps": int}
+    opts = Options(**{k: kinds.get(k, float)(v) for k, v in opts.items()})
+    out = Outputs(
+        t_out=t_out,
+        Y=prefaulted_zeros((t_out.size, c.ny)),
+        CS=prefaulted_zeros((t_out.size, c.ncp, 2)),  # per contact point: can be MBs
+        log=np.zeros((max_events if c.nclr else 0, NLOG)),
+        stats=np.zeros(NSTATS),
+        PK=np.zeros((c.nclr, 4)),
+    )
+    return opts, out
 
 
 def _run_loop(method, model, wk, cs, opts, out, t0, y) -> tuple[int, int, float, int]:
