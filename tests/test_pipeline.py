@@ -279,6 +279,29 @@ def test_reuse_ideal_between_clearance_only_variations(tmp_path):
     assert "reused_ideal" not in third.timings and third.ideal is not first.ideal
 
 
+def test_concurrent_runs_equal_the_sequential_pipeline(tmp_path):
+    """run_scenario integrates the ideal run in a second thread while the clearance run
+    starts from a short run's first sample: the same numbers, bit for bit, as the plain
+    sequence (full ideal run, its first sample placing the balls along the reaction,
+    then the clearance run)."""
+    from clearance.analysis.ik import drives_from_ik
+    from clearance.pipeline import _start_from
+
+    s = short("ups_upu", **{"trajectory.duration": 0.03, "clearance.initial": "reaction"})
+    out = run_scenario(s, out_dir=tmp_path, log=None)
+    ideal, clr, info = build_mechanisms(s, drives=drives_from_ik(out.ik))
+    kw = info.simulate_kwargs
+    r_i = cl.simulate(cl.compile_mechanism(ideal), info.t_end, **kw)
+    cc = cl.compile_mechanism(clr)
+    y0 = place_balls_along_reaction(clr, r_i, _start_from(r_i, cc, ideal, s), info.clearance_joints)
+    r_c = cl.simulate(cc, info.t_end, y0=y0, **kw)
+    assert out.clearance.stats["nevents"] > 0  # the balls move off their start
+    for name in ("t", "q", "v", "a", "lam", "contact"):
+        np.testing.assert_array_equal(getattr(out.ideal, name), getattr(r_i, name))
+        np.testing.assert_array_equal(getattr(out.clearance, name), getattr(r_c, name))
+    assert out.timings["ideal"] > 0 and out.timings["clearance"] > 0
+
+
 def test_cold_compile_children_leave_the_results_unchanged(tmp_path, monkeypatch):
     """With a cold cache (forced here), compile children are forked and joined; the run
     is the same bit for bit. The children then find every kernel cached, so this stays

@@ -42,7 +42,7 @@ def _err_norm(e, y, ynew, n, rtol, atol):
     return math.sqrt(s / n)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
     """Integrate from (t0, y0), writing the samples at out.t_out (contract: state.py).
 

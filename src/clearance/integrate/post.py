@@ -13,7 +13,7 @@ from clearance.dynamics.rhs import rhs
 from clearance.kinematics.rotations import cross, matvec, sub
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def post_process(
     model,
     wk,

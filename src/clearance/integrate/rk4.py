@@ -21,7 +21,7 @@ _SUCCESS = int(Status.SUCCESS)
 _SINGULAR = int(Status.SINGULAR)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def rk4(model, wk, cs, opts, out, t0, y0):
     """Integrate from (t0, y0) with the fixed step opts.step; peaks (out.PK) at the step
     starts (the last state is covered by the outputs). Returns (status, outputs written,
