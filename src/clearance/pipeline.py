@@ -519,11 +519,11 @@ class _Background:
     """fn() in a second thread, started at once; `result()` joins it and returns its value
     (or raises its exception here); `seconds` is its wall time."""
 
-    def __init__(self, fn: Callable) -> None:
+    def __init__(self, fn: Callable, name: str) -> None:
         import threading
 
         self._fn, self._value, self._error, self.seconds = fn, None, None, 0.0
-        self._thread = threading.Thread(target=self._run, name="clearance-ideal", daemon=True)
+        self._thread = threading.Thread(target=self._run, name=name, daemon=True)
         self._thread.start()
 
     def _run(self) -> None:
@@ -539,6 +539,14 @@ class _Background:
         if self._error is not None:
             raise self._error
         return self._value
+
+
+def _import_writers(figures: bool) -> None:
+    """Import what writing the results (and drawing the figures) needs."""
+    import clearance.io.dataset  # noqa: F401  (xarray, netCDF4)
+
+    if figures:
+        import clearance.plot.figures  # noqa: F401  (matplotlib)
 
 
 class StageTimer(dict):
@@ -658,9 +666,13 @@ def run_scenario(
     # run above computed alike: the two runs are independent and integrate at once, the
     # ideal one in a second thread (the loops and the post-processing release the GIL)
     ideal_run = None
+    draw = s.output.figures if figures is None else figures
+    # the writers' imports (xarray, matplotlib: ~0.5 s) run in a third thread while the
+    # runs hold no GIL; joined before anything forks
+    imports = _Background(lambda: _import_writers(draw), name="clearance-imports")
     if r_ideal is None:
         _say(log, "[3/5] ideal mechanism")
-        ideal_run = _Background(lambda: simulate(ci, t_end, **kw))
+        ideal_run = _Background(lambda: simulate(ci, t_end, **kw), name="clearance-ideal")
         start_ref = first[0]
     else:
         ci = r_ideal.compiled
@@ -687,6 +699,7 @@ def run_scenario(
             _IDEAL_MEMO.clear()  # one entry: the memory of one ideal run
             _IDEAL_MEMO[key] = (ik, ideal, r_ideal)
     _say(log, f"      {r_clr.message}; wall {r_clr.stats['wall_time']:.3f} s")
+    imports.result()
     with timer("summary"):
         r_ideal, r_clr = (_with_lumped_actuator_forces(r, s) for r in (r_ideal, r_clr))
         summary = summarize(r_ideal, r_clr, info.platform_body)
@@ -698,7 +711,7 @@ def run_scenario(
         attrs={"ik_min_sigma": ik.min_sigma, "ik_max_condition": ik.max_condition},
         groups=run_outputs(s, outputs, cc),
         platform=info.platform_body,
-        figures=s.output.figures if figures is None else figures,
+        figures=draw,
         timer=timer,
     )
     timer["total"] = time.perf_counter() - t_all
@@ -732,28 +745,37 @@ def write_outputs(
         "clearance_version": clearance.__version__,
         **attrs,
     }
-    with timer("write"):
-        files = [save_results(out / f"{s.name}.nc", ds, attrs=root)]
-    with timer("export"):
-        fmts = s.output.formats
-        if "csv" in fmts or "mat" in fmts:
-            from clearance.io.export import export_csv, export_mat
-
-            if "csv" in fmts:
-                files += export_csv(files[0], out)
-            if "mat" in fmts:
-                files.append(export_mat(files[0], out / f"{s.name}.mat"))
-        if "npz" in fmts:
-            from clearance.io.npz import save_npz
-
-            files += [save_npz(r, out / f"{s.name}_{k}.npz") for k, r in runs.items()]
-    if figures:
-        from clearance.plot import plot_all
+    pending = None
+    if figures:  # forked processes draw while this one writes (figures: the wait for them)
+        from clearance.plot import start_figures
 
         with timer("figures"):
-            files += plot_all(
+            pending = start_figures(
                 ds, out / "figures", platform=platform, formats=(s.output.figure_format,)
             )
+    try:
+        with timer("write"):
+            files = [save_results(out / f"{s.name}.nc", ds, attrs=root)]
+        with timer("export"):
+            fmts = s.output.formats
+            if "csv" in fmts or "mat" in fmts:
+                from clearance.io.export import export_csv, export_mat
+
+                if "csv" in fmts:
+                    files += export_csv(files[0], out)
+                if "mat" in fmts:
+                    files.append(export_mat(files[0], out / f"{s.name}.mat"))
+            if "npz" in fmts:
+                from clearance.io.npz import save_npz
+
+                files += [save_npz(r, out / f"{s.name}_{k}.npz") for k, r in runs.items()]
+    except BaseException:
+        if pending is not None:
+            pending.cancel()  # no drawing processes left behind
+        raise
+    if pending is not None:
+        with timer("figures"):
+            files += pending.result()
     return files
 
 

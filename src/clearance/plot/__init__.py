@@ -11,6 +11,7 @@ from clearance.plot.figures import (
     plot_slider_offset,
     rotation_vector,
     save_figure,
+    start_figures,
 )
 
 __all__ = [
@@ -24,4 +25,5 @@ __all__ = [
     "plot_platform",
     "rotation_vector",
     "save_figure",
+    "start_figures",
 ]

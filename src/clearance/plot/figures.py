@@ -810,6 +810,21 @@ def plot_all(
     Figures that do not apply (no clearance joint, no driver) are skipped. jobs: processes
     drawing the figures (None: one per available core, at most 4; 1: this process only).
     """
+    return start_figures(datasets, out_dir, platform=platform, formats=formats, jobs=jobs).result()
+
+
+def start_figures(
+    datasets: Mapping[str, xr.Dataset],
+    out_dir: str | os.PathLike,
+    *,
+    platform: str = "platform",
+    formats: Sequence[str] = ("png",),
+    jobs: int | None = None,
+) -> PendingFigures:
+    """`plot_all`, begun: with more than one job the forked processes start drawing at
+    once and the caller goes on (`clearance run` writes the result file meanwhile);
+    `.result()` waits for them and returns the paths. With one job (or no fork here) the
+    figures are drawn in `.result()`."""
     if not datasets:
         raise ValueError("no datasets to plot")
     for name, ds in datasets.items():
@@ -832,13 +847,7 @@ def plot_all(
         stem, fn = _KIND_FIGURES[kind]
         builders.append((f"{stem}_{j}", functools.partial(fn, datasets, j)))
     builders.append(("actuator_forces", functools.partial(plot_actuator_forces, datasets)))
-    jobs = _jobs(jobs, len(builders))
-    if jobs > 1:
-        try:
-            return _render_parallel(builders, out_dir, formats, jobs)
-        except (OSError, AssertionError, ImportError, RuntimeError):
-            pass  # no fork here (or a daemonic process): draw them one by one
-    return _render(builders, out_dir, formats)
+    return PendingFigures(builders, out_dir, tuple(formats), _jobs(jobs, len(builders)))
 
 
 def _render(builders, out_dir: Path, formats: Sequence[str]) -> list[Path]:
@@ -878,25 +887,65 @@ def _jobs(jobs: int | None, n: int) -> int:
     return max(1, min(int(jobs), n))
 
 
-def _render_parallel(builders, out_dir: Path, formats: Sequence[str], jobs: int) -> list[Path]:
-    """Render the figures in `jobs` forked processes (each inherits the datasets without
-    copying them); every figure is independent and written atomically by its process."""
-    import multiprocessing
+# what a fork can fail with (no fork here, a daemonic process): draw in this process then
+_NO_FORK = (OSError, AssertionError, ImportError, RuntimeError)
 
-    # the larger figures first, handed out one at a time: the processes finish together
-    order = sorted(range(len(builders)), key=lambda i: builders[i][0].startswith("contact"))
-    global _FORKED
-    _FORKED = (builders, out_dir, tuple(formats))
-    try:
-        ctx = multiprocessing.get_context("fork")
-        with ctx.Pool(jobs) as pool:
-            done = dict(pool.imap_unordered(_render_one, order))
-    finally:
+
+class PendingFigures:
+    """Figures being drawn (`start_figures`); `result()` returns their paths."""
+
+    def __init__(self, builders, out_dir: Path, formats: tuple, jobs: int) -> None:
+        self._serial = (builders, out_dir, formats)
+        self._pool = self._running = self._paths = None
+        if jobs > 1:
+            try:
+                self._fork(builders, out_dir, formats, jobs)
+            except _NO_FORK:
+                self._close()
+
+    def _fork(self, builders, out_dir: Path, formats: tuple, jobs: int) -> None:
+        """Render the figures in `jobs` forked processes (each inherits the datasets
+        without copying them); every figure is independent and written atomically by its
+        process."""
+        import multiprocessing
+
+        global _FORKED
+        # the larger figures first, handed out one at a time: the processes finish together
+        order = sorted(range(len(builders)), key=lambda i: builders[i][0].startswith("contact"))
+        _FORKED = self._serial
+        self._pool = multiprocessing.get_context("fork").Pool(jobs)
+        self._running = self._pool.imap_unordered(_render_one, order)
+
+    def result(self) -> list[Path]:
+        if self._paths is None:
+            self._paths = self._collect()
+        return self._paths
+
+    def _collect(self) -> list[Path]:
+        builders = self._serial[0]
+        if self._running is not None:
+            try:
+                done = dict(self._running)
+                return [p for i in range(len(builders)) for p in done[i]]
+            except _NO_FORK:
+                pass  # drawn again below, in this process
+            finally:
+                self._close()
+        return _render(*self._serial)
+
+    def cancel(self) -> None:
+        """Stop the drawing processes (what they wrote stays)."""
+        self._close()
+
+    def _close(self) -> None:
+        global _FORKED
+        if self._pool is not None:
+            self._pool.terminate()
+        self._pool = self._running = None
         _FORKED = None
-    return [p for i in range(len(builders)) for p in done[i]]
 
 
-_FORKED = None  # (builders, out_dir, formats) of the running _render_parallel, for its forks
+_FORKED = None  # (builders, out_dir, formats) of the running PendingFigures, for its forks
 
 
 def _render_one(i: int) -> tuple[int, list[Path]]:
