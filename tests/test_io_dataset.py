@@ -184,7 +184,55 @@ def test_netcdf_compression_level_validated(datasets, tmp_path, bad):
     assert not os.listdir(tmp_path)
 
 
-def test_netcdf_write_is_atomic(saved, datasets, monkeypatch):
+def test_direct_writer_reads_back_as_xarrays_writer(datasets, tmp_path):
+    """The direct netCDF4 writer of plain datasets (numbers, strings) against xarray's own
+    writer, the independent reference: the same variables, coordinates, attributes and
+    dtypes on reading back, empty dimensions (the ideal run's events) included."""
+    import clearance.io.dataset as D
+
+    groups = {k: ds.drop_encoding() for k, ds in datasets.items()}
+    assert all(D._plain(ds) for ds in groups.values())
+    D._write_plain(tmp_path / "p.nc", {"scenario": SCENARIO}, groups, 1)
+    D._write_xarray(tmp_path / "x.nc", {"scenario": SCENARIO}, groups, 1)
+    p, x = load_results(tmp_path / "p.nc"), load_results(tmp_path / "x.nc")
+    assert p.attrs == x.attrs and list(p) == list(x)
+    for g in p:
+        xr.testing.assert_identical(p[g], x[g])
+        assert set(p[g].coords) == set(x[g].coords) == set(datasets[g].coords)
+        for name, var in p[g].variables.items():
+            assert var.dtype == x[g][name].dtype, name
+
+
+def test_datasets_beyond_plain_go_through_xarray(datasets, tmp_path):
+    """A user's dataset with what the direct writer does not encode (booleans, CF
+    attributes) is written by xarray and round-trips."""
+    import clearance.io.dataset as D
+
+    extra = datasets["ideal"].assign(ok=("time", np.ones(datasets["ideal"].sizes["time"], bool)))
+    assert not D._plain(extra)
+    save_results(tmp_path / "b.nc", {"ideal": extra})
+    back = load_results(tmp_path / "b.nc")["ideal"]
+    xr.testing.assert_identical(back, extra)
+    assert back["ok"].dtype == bool
+
+
+@pytest.mark.parametrize("writer", ["direct", "xarray"])
+def test_netcdf_write_is_atomic(saved, datasets, monkeypatch, writer):
+    import clearance.io.dataset as D
+
+    if writer == "xarray":
+        monkeypatch.setattr(D, "_plain", lambda ds: False)
+    else:  # fail inside the clearance group, after the root and the ideal group
+        real_filters, n_ideal = D._filters, len(datasets["ideal"].variables)
+        seen = []
+
+        def failing_filters(var, complevel):
+            seen.append(var)
+            if len(seen) >= n_ideal + 5:
+                raise RuntimeError("disk full (simulated)")
+            return real_filters(var, complevel)
+
+        monkeypatch.setattr(D, "_filters", failing_filters)
     before = saved.read_bytes()
     calls = {"n": 0}
     real = xr.Dataset.to_netcdf
@@ -195,10 +243,12 @@ def test_netcdf_write_is_atomic(saved, datasets, monkeypatch):
             raise RuntimeError("disk full (simulated)")
         return real(self, *args, **kw)
 
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", failing)
+    if writer == "xarray":
+        monkeypatch.setattr(xr.Dataset, "to_netcdf", failing)
     with pytest.raises(RuntimeError, match="simulated"):
         save_results(saved, datasets)
-    assert calls["n"] >= 2  # the failure came after part of the file was written
+    if writer == "xarray":
+        assert calls["n"] >= 2  # the failure came after part of the file was written
     assert saved.read_bytes() == before  # the old file is intact
     assert sorted(os.listdir(saved.parent)) == ["results.nc"]
     fresh = saved.parent / "new.nc"
