@@ -327,3 +327,13 @@ def test_cold_compile_children_leave_the_results_unchanged(tmp_path, monkeypatch
     monkeypatch.setattr(P, "_kernels_cached", lambda: True)
     run_scenario(s, out_dir=tmp_path / "c", log=None)
     assert started == [True, False]  # a warm cache forks nothing
+
+
+def test_warm_worker_is_free_once_a_scenario_ran(monkeypatch, tmp_path):
+    """A study worker warms up with a tiny run, unless this process already ran one."""
+    import clearance.pipeline as P
+    from clearance.sweep.run import warm_worker
+
+    monkeypatch.setattr(P, "_RAN", False)
+    assert warm_worker() > 0.0 and P._RAN
+    assert warm_worker() == 0.0

@@ -254,12 +254,16 @@ def warm_worker() -> float:
     """Imports and loads the compiled kernels in this process (a 5 ms run of the default
     scenario into a temporary folder, discarded); returns its wall time [s]. Run on every
     worker before the cases, so the first case of each worker does not carry the one-time
-    warm-up in its timings (and the study's timing trends show the cases only)."""
+    warm-up in its timings (and the study's timing trends show the cases only). A process
+    that has already run a scenario is warm: nothing to do (0.0)."""
     import tempfile
 
+    from clearance import pipeline
     from clearance.pipeline import run_scenario
     from clearance.scenario import default_scenario_path, load_scenario, with_overrides
 
+    if pipeline._RAN:
+        return 0.0
     t0 = time.perf_counter()
     s = load_scenario(default_scenario_path())
     s = with_overrides(s, {"trajectory.duration": 0.005, "solver.dt_out": 1e-3})
