@@ -388,6 +388,43 @@ def test_rerun_skips_finished_cases_and_redoes_a_deleted_one(serial, tmp_path):
     assert after[victim]["metrics"]["impacts"] == before[victim]["metrics"]["impacts"]
 
 
+@pytest.mark.parametrize("retries", [0, 1])
+def test_serial_study_write_behind_failure_is_retried_or_recorded(tmp_path, monkeypatch, retries):
+    """A serial study writes each case's file while the next case integrates; a write that
+    fails counts as an attempt: the case runs again (retries left) or is recorded failed,
+    and the other cases finish with their files."""
+    import clearance.pipeline as P
+
+    params = """
+[[parameter]]
+path = "clearance.joints.S_1.radial_clearance"
+values = [1e-4, 2e-4, 3e-4]
+"""
+    study = loads_study(study_text(tmp_path / "wb", params, metrics=["impacts"]))
+    victim = study.cases[1].id
+    real, calls = P.write_outputs, []
+
+    def flaky(s, *args, **kw):
+        calls.append(s.name)
+        if s.name == victim and calls.count(victim) == 1:
+            raise OSError("disk full (simulated)")
+        return real(s, *args, **kw)
+
+    monkeypatch.setattr(P, "write_outputs", flaky)
+    rep = run_study(study, scheduler="serial", retries=retries, progress=False)
+    sc = sidecars(study.folder)
+    others = [c.id for c in study.cases if c.id != victim]
+    assert all(sc[c]["status"] == "finished" and sc[c]["attempts"] == 1 for c in others)
+    assert all((study.folder / "cases" / f"{c}.nc").exists() for c in others)
+    if retries:
+        assert rep.complete and sc[victim]["status"] == "finished"
+        assert sc[victim]["attempts"] == 2 and calls.count(victim) == 2
+    else:
+        assert list(rep.failed) == [victim] and "disk full" in rep.failed[victim]
+        assert sc[victim]["status"] == "failed" and "disk full" in sc[victim]["reason"]
+        assert not (study.folder / "cases" / f"{victim}.nc").exists()
+
+
 def test_killed_worker_is_retried_and_failing_case_is_recorded(client, tmp_path):
     """One case kills its worker process on its first attempt (os._exit): the scheduler
     reruns it elsewhere. Another raises on every attempt: recorded as failed with the

@@ -11,6 +11,7 @@ Every stage is a library call; this module only wires them together and reports 
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -53,6 +54,18 @@ class RunOutput:
     summary: dict
     files: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
+    _write: Callable[[], list] | None = field(default=None, repr=False, compare=False)
+
+    def write(self) -> list:
+        """Write the files of a `run_scenario(..., defer_write=True)` run (once; a second
+        call, or a run that wrote them already, returns them). Its stages ("datasets",
+        "write", ...) are added to `timings`."""
+        if self._write is not None:
+            timer = StageTimer()
+            self.files = self._write(timer=timer)
+            self._write = None
+            self.timings.update(timer)
+        return self.files
 
 
 def _say(log: Callable[[str], None] | None, msg: str) -> None:
@@ -592,6 +605,7 @@ def run_scenario(
     figures: bool | None = None,
     outputs: tuple[str, ...] | None = None,
     reuse_ideal: bool = False,
+    defer_write: bool = False,
     log: Callable[[str], None] | None = print,
 ) -> RunOutput:
     """Run a scenario (default: the shipped 4UPS-UPU one) and write its outputs.
@@ -602,7 +616,9 @@ def run_scenario(
     reuse_ideal: reuse the inverse kinematics and the ideal run of the previous call in
     this process when they depend on nothing that changed (the mechanism, trajectory and
     solver sections: a study varying only clearance parameters); the timings then say
-    reused_ideal = 1. log: progress messages (None: silent).
+    reused_ideal = 1. defer_write: return without writing anything; `RunOutput.write()`
+    writes the files later (a study writes one case while the next one integrates).
+    log: progress messages (None: silent).
     A run that fails part-way keeps and writes what it computed; its status says why.
     `RunOutput.timings` holds the wall time of each stage (`STAGES`) and the total.
     """
@@ -707,8 +723,8 @@ def run_scenario(
     with timer("summary"):
         r_ideal, r_clr = (_with_lumped_actuator_forces(r, s) for r in (r_ideal, r_clr))
         summary = summarize(r_ideal, r_clr, info.platform_body)
-    _say(log, "[5/5] writing results")
-    files = write_outputs(
+    write = functools.partial(
+        write_outputs,
         s,
         {"ideal": r_ideal, "clearance": r_clr},
         out,
@@ -716,13 +732,19 @@ def run_scenario(
         groups=run_outputs(s, outputs, cc),
         platform=info.platform_body,
         figures=draw,
-        timer=timer,
     )
+    files: list = []
+    if not defer_write:
+        _say(log, "[5/5] writing results")
+        files = write(timer=timer)
     timer["total"] = time.perf_counter() - t_all
     timer["compile"] = timer["kernels"]  # the name before 0.2
     global _RAN
     _RAN = True
-    return RunOutput(s, r_ideal, r_clr, ik, summary, files, dict(timer))
+    run = RunOutput(s, r_ideal, r_clr, ik, summary, files, dict(timer))
+    if defer_write:
+        run._write = write
+    return run
 
 
 def write_outputs(

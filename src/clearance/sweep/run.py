@@ -18,6 +18,7 @@ sidecar with the reason, and the study goes on.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import socket
 import time
@@ -43,7 +44,7 @@ from clearance.sweep.store import (
 )
 from clearance.sweep.study import Case, Study, case_scenario_dict, load_study
 
-__all__ = ["StudyReport", "default_workers", "run_case", "run_study"]
+__all__ = ["StudyReport", "default_workers", "run_case", "run_study", "start_case"]
 
 SERIAL = "serial"
 FAULT_EXIT_ONCE, FAULT_RAISE = "exit-once", "raise"
@@ -112,6 +113,15 @@ def run_case(task: Mapping[str, Any]) -> dict:
     "finished" (metrics, summary, timings, result file size) or "failed" (reason and
     traceback; the exception is re-raised so that Dask retries it).
     """
+    return start_case(task)()
+
+
+def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callable[[], dict]:
+    """`run_case` in two parts: this call runs the case (its sidecar says "running"); the
+    function it returns writes the result file, then the sidecar "finished", and returns
+    the sidecar. With defer_write the result file is written by that function (a serial
+    study calls it in a second thread while the next case integrates); without, by this
+    call. A failure in either part writes the sidecar "failed" and raises."""
     import dask
 
     from clearance.pipeline import run_scenario
@@ -134,6 +144,21 @@ def run_case(task: Mapping[str, Any]) -> dict:
         "started": now(),
     }
     write_json(side, info)
+
+    def failed(e: Exception, elapsed: float) -> None:
+        info.update(
+            status=FAILED,
+            reason=f"{type(e).__name__}: {e}",
+            traceback=traceback.format_exc(limit=8),
+            ended=now(),
+            elapsed=elapsed,
+        )
+        write_json(side, info)
+
+    # a local lock for a NetCDF write through xarray: inside a Dask worker xarray would
+    # otherwise take a cluster-wide lock, a scheduler round trip that fails while the
+    # cluster shuts down
+    local = functools.partial(dask.config.set, scheduler="synchronous")
     t0 = time.perf_counter()
     try:
         _fault(task.get("fault"))
@@ -144,38 +169,48 @@ def run_case(task: Mapping[str, Any]) -> dict:
         d["scenario"] = {**d["scenario"], "name": cid}
         d["output"] = {**d.get("output", {}), "figures": False, "formats": ["netcdf"]}
         s = scenario_from_dict(d, source=source)
-        # a local lock for the NetCDF write: inside a Dask worker xarray would otherwise take
-        # a cluster-wide lock, a scheduler round trip that fails while the cluster shuts down
-        with dask.config.set(scheduler="synchronous"):
-            out = run_scenario(s, out_dir=folder / CASES, figures=False, reuse_ideal=True, log=None)
+        with local():
+            out = run_scenario(
+                s,
+                out_dir=folder / CASES,
+                figures=False,
+                reuse_ideal=True,
+                defer_write=defer_write,
+                log=None,
+            )
         metrics = compute_metrics(CaseData.from_run(out), task["metrics"])
     except Exception as e:
+        failed(e, time.perf_counter() - t0)
+        raise
+    ran = time.perf_counter() - t0
+
+    def finish() -> dict:
+        import clearance
+
+        t1 = time.perf_counter()
+        try:
+            with local():
+                out.write()
+        except Exception as e:
+            failed(e, ran + time.perf_counter() - t1)
+            raise
         info.update(
-            status=FAILED,
-            reason=f"{type(e).__name__}: {e}",
-            traceback=traceback.format_exc(limit=8),
+            status=FINISHED,
             ended=now(),
-            elapsed=time.perf_counter() - t0,
+            elapsed=ran + time.perf_counter() - t1,
+            result_file=nc.name,
+            result_bytes=nc.stat().st_size,
+            success=bool(out.ideal.success and out.clearance.success),
+            message=out.clearance.message,
+            metrics=metrics,
+            summary=out.summary,
+            timings=out.timings,
+            clearance_version=clearance.__version__,
         )
         write_json(side, info)
-        raise
-    import clearance
+        return read_json(side) or info  # as collect will read it (JSON-normalised)
 
-    info.update(
-        status=FINISHED,
-        ended=now(),
-        elapsed=time.perf_counter() - t0,
-        result_file=nc.name,
-        result_bytes=nc.stat().st_size,
-        success=bool(out.ideal.success and out.clearance.success),
-        message=out.clearance.message,
-        metrics=metrics,
-        summary=out.summary,
-        timings=out.timings,
-        clearance_version=clearance.__version__,
-    )
-    write_json(side, info)
-    return read_json(side) or info  # as collect will read it (JSON-normalised)
+    return finish
 
 
 # --------------------------------------------------------------------------- the study
@@ -273,20 +308,66 @@ def warm_worker() -> float:
 
 
 def _run_serial(tasks: list[dict], labels: dict, retries: int, tr: _Tracker) -> None:
+    """The cases one after the other in this process; each case's result file is written
+    in a second thread while the next case integrates (one write at a time; the kernels
+    and most of the write release the GIL). A case whose write fails runs again, here."""
+    import threading
+
     warm = warm_worker()
     if tr.say is not None:
         tr.say(f"warmed up in {warm:.1f} s (imports, kernels), not counted in the cases")
-    for t in tasks:
-        for attempt in range(retries + 1):
-            try:
-                info = run_case(t)
-            except Exception as e:  # recorded in the sidecar by run_case
-                if attempt == retries:
-                    reason = _record_failure(Path(t["folder"]), t, e)
-                    tr.failed(t["case"], reason, labels[t["case"]])
-                continue
-            tr.finished(info, labels[t["case"]])
-            break
+    behind: list = []  # [(task, thread, box)] of the write in flight
+
+    def settle() -> None:
+        if not behind:
+            return
+        t, thread, box = behind.pop()
+        thread.join()
+        if "info" in box:
+            tr.finished(box["info"], labels[t["case"]])
+        elif retries > 0:  # that was an attempt (its sidecar says why): the rest, here
+            _run_one(t, labels, retries - 1, tr, defer=False)
+        else:
+            tr.failed(
+                t["case"], _record_failure(Path(t["folder"]), t, box["error"]), labels[t["case"]]
+            )
+
+    def finish(box: dict, fn: Callable[[], dict]) -> None:
+        try:
+            box["info"] = fn()
+        except Exception as e:  # recorded in the sidecar by the case
+            box["error"] = e
+
+    try:
+        for t in tasks:
+            fn = _run_one(t, labels, retries, tr, defer=True)
+            settle()
+            if fn is not None:
+                box: dict = {}
+                thread = threading.Thread(target=finish, args=(box, fn), daemon=True)
+                thread.start()
+                behind.append((t, thread, box))
+    finally:
+        settle()  # an interrupted study still finishes the write in flight
+
+
+def _run_one(t: dict, labels: dict, retries: int, tr: _Tracker, *, defer: bool):
+    """Run case t with its retries: its finishing function (defer), or None once it is
+    finished (reported) or failed for good (recorded and reported)."""
+    for attempt in range(retries + 1):
+        try:
+            fn = start_case(t, defer_write=defer)
+            if defer:
+                return fn
+            info = fn()
+        except Exception as e:  # recorded in the sidecar by start_case
+            if attempt == retries:
+                reason = _record_failure(Path(t["folder"]), t, e)
+                tr.failed(t["case"], reason, labels[t["case"]])
+            continue
+        tr.finished(info, labels[t["case"]])
+        return None
+    return None
 
 
 def _client(scheduler: Any, n_workers: int | None, retries: int, n_tasks: int):
