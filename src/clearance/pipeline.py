@@ -270,15 +270,16 @@ class ColdCompile:
     """Two cores for a cold compile (no kernels in the cache yet: the first run).
 
     numba compiles a kernel with everything it calls, one function after another, in one
-    process: 108 s for what `clearance run` needs, in a chain whose longest path is 26 s.
+    process: ~95 s for what `clearance run` needs, in a chain whose longest path is 23 s.
     While this process does the inverse kinematics (whose own kernels are part of that),
-    a forked child compiles the contact-force and contact-event kernels by calling them
-    on the clearance model; this process then compiles the applied forces, the
-    projection and the right-hand side (`parent_part`), waits for the child (`join`),
-    forks a second one for the post-processing and compiles the integration loop
-    meanwhile (`finish` waits for it), loading everything a child compiled from the
-    shared on-disk cache. Default scenario, empty cache: 60 s of compiling instead of
-    108 s, the first `clearance run` 61 s instead of ~115 s. The compiled code is the
+    a forked child compiles the contact-force and contact-event kernels and the contact
+    update by calling them on the clearance model, then the loops' on-accept hook; this
+    process compiles the applied forces, the projection, the right-hand side and, once
+    the child has the contact update, the loops' start (`parent_part`), waits for the
+    child (`join`), forks a second one for the post-processing and compiles the
+    integration loop meanwhile (`finish` waits for it), loading everything a child
+    compiled from the shared on-disk cache. Default scenario, empty cache: 50 s of
+    compiling, the first `clearance run` 55 s instead of ~115 s. The compiled code is the
     same either way (the same functions and signatures); only the order and the process
     differ. Nothing happens with a warm cache, without fork, or while other threads run
     (forking a threaded process can deadlock the child); a child that fails costs
