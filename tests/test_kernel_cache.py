@@ -47,13 +47,30 @@ def test_hash_follows_kernel_sources_only(tmp_path):
 def test_cache_location_from_the_environment(tmp_path, monkeypatch):
     monkeypatch.setenv("CLEARANCE_CACHE_DIR", str(tmp_path / "c"))
     d = _kernel_cache.cache_dir()
-    assert d.parent == tmp_path / "c" and d.name.endswith(_kernel_cache.source_hash())
+    assert d.parent == tmp_path / "c" and _kernel_cache.source_hash() in d.name
     monkeypatch.delenv("CLEARANCE_CACHE_DIR")
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "n"))
     assert _kernel_cache.cache_dir().parent == tmp_path / "n"
     monkeypatch.delenv("NUMBA_CACHE_DIR")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "x"))
     assert _kernel_cache.cache_dir().parent == tmp_path / "x" / "clearance"
+
+
+def test_codegen_settings_get_their_own_cache(monkeypatch):
+    """numba's cache key ignores NUMBA_BOUNDSCHECK and NUMBA_OPT: a bounds-checked suite
+    must not load the unchecked kernels of an earlier run, nor leave checked ones behind."""
+    from numba.core import config
+
+    monkeypatch.setattr(config, "BOUNDSCHECK", None)
+    monkeypatch.setattr(config, "OPT", 3)
+    monkeypatch.setattr(config, "DEBUGINFO_DEFAULT", 0)
+    plain = _kernel_cache.cache_dir()
+    assert plain.name.endswith(_kernel_cache.source_hash())
+    monkeypatch.setattr(config, "BOUNDSCHECK", 1)
+    checked = _kernel_cache.cache_dir()
+    assert checked.name == plain.name + "-boundscheck"
+    monkeypatch.setattr(config, "OPT", 2)
+    assert _kernel_cache.cache_dir().name == plain.name + "-boundscheck-opt2"
 
 
 def test_the_kernel_free_list_is_true():

@@ -8,7 +8,9 @@ package except the pure-Python layers in `_NO_KERNELS`), so any change to them s
 fresh cache, and a cached kernel always matches the sources it was built from.
 
 Location: $CLEARANCE_CACHE_DIR, else $NUMBA_CACHE_DIR, else $XDG_CACHE_HOME/clearance (or
-~/.cache/clearance), then `numba-<numba version>-<hash>`. Old directories are left in place
+~/.cache/clearance), then `numba-<numba version>-<hash>` (plus `-boundscheck`, `-opt<N>` or
+`-debuginfo` when numba is configured so: its own cache key ignores them). Old directories
+are left in place
 (delete them freely). `configure()` sets numba's CACHE_DIR only while the package's kernel
 modules are imported (the locator is fixed when a function is decorated), then restores
 the previous value, so other numba users in the process are not affected.
@@ -62,7 +64,19 @@ def cache_dir(root: Path = PACKAGE) -> Path:
     if not base:
         xdg = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
         base = str(Path(xdg) / "clearance")
-    return Path(base) / f"numba-{numba.__version__}-{source_hash(root)}"
+    return Path(base) / f"numba-{numba.__version__}-{source_hash(root)}{_codegen_flags()}"
+
+
+def _codegen_flags() -> str:
+    """numba settings that change the compiled code but not numba's own cache key (which
+    holds the signature, the CPU and the bytecode only): each gets its own directory, or
+    NUMBA_BOUNDSCHECK=1 would load the unchecked kernels of an earlier run."""
+    out = "-boundscheck" if config.BOUNDSCHECK else ""
+    if int(config.OPT) != 3:
+        out += f"-opt{int(config.OPT)}"
+    if config.DEBUGINFO_DEFAULT:
+        out += "-debuginfo"
+    return out
 
 
 def configure() -> str:
