@@ -184,6 +184,28 @@ def test_netcdf_compression_level_validated(datasets, tmp_path, bad):
     assert not os.listdir(tmp_path)
 
 
+def _netcdf_layout(path) -> dict:
+    """Everything of a NetCDF file but its data, as netCDF4 reports it (NaN as a string)."""
+    import netCDF4
+
+    def attrs(obj) -> dict:
+        return {k: repr(obj.getncattr(k)) for k in obj.ncattrs()}
+
+    with netCDF4.Dataset(path) as nc:
+        out = {"/": attrs(nc)}
+        for gn, g in nc.groups.items():
+            out[gn] = (attrs(g), {d: (len(v), v.isunlimited()) for d, v in g.dimensions.items()})
+            for vn, v in g.variables.items():
+                out[f"{gn}/{vn}"] = (
+                    attrs(v),
+                    str(v.dtype),
+                    v.dimensions,
+                    v.filters(),
+                    v.chunking(),
+                )
+    return out
+
+
 def test_direct_writer_reads_back_as_xarrays_writer(datasets, tmp_path):
     """The direct netCDF4 writer of plain datasets (numbers, strings) against xarray's own
     writer, the independent reference: the same variables, coordinates, attributes and
@@ -196,6 +218,9 @@ def test_direct_writer_reads_back_as_xarrays_writer(datasets, tmp_path):
     D._write_xarray(tmp_path / "x.nc", {"scenario": SCENARIO}, groups, 1)
     p, x = load_results(tmp_path / "p.nc"), load_results(tmp_path / "x.nc")
     assert p.attrs == x.attrs and list(p) == list(x)
+    # and the files themselves, for other readers: attributes (NaN fill values and CF
+    # coordinate lists included), types, dimensions, filters and chunks of every variable
+    assert _netcdf_layout(tmp_path / "p.nc") == _netcdf_layout(tmp_path / "x.nc")
     for g in p:
         xr.testing.assert_identical(p[g], x[g])
         assert set(p[g].coords) == set(x[g].coords) == set(datasets[g].coords)
