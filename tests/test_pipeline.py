@@ -356,6 +356,57 @@ def test_cold_compile_survives_a_child_that_dies_silently(tmp_path, monkeypatch)
     np.testing.assert_array_equal(plain.clearance.q, cold.clearance.q)
 
 
+def test_a_failing_clearance_run_leaves_no_ideal_thread_and_keeps_its_ideal_run(
+    tmp_path, monkeypatch
+):
+    """The clearance run fails while the ideal one integrates in its thread: the error
+    comes out, the thread is joined (nothing keeps integrating behind the caller), and a
+    retry reuses the ideal run."""
+    import threading
+
+    import clearance.pipeline as P
+
+    s = short("ups_upu", **{"trajectory.duration": 0.02})
+    P._IDEAL_MEMO.clear()
+
+    def broken(*a, **k):
+        raise RuntimeError("no start (simulated)")
+
+    monkeypatch.setattr(P, "_start_from", broken)
+    with pytest.raises(RuntimeError, match="simulated"):
+        run_scenario(s, out_dir=tmp_path / "a", reuse_ideal=True, log=None)
+    assert not [t for t in threading.enumerate() if t.name.startswith("clearance-")]
+    monkeypatch.undo()
+    again = run_scenario(s, out_dir=tmp_path / "b", reuse_ideal=True, log=None)
+    assert again.timings["reused_ideal"] == 1.0
+
+
+def test_a_figure_failure_keeps_the_result_file(tmp_path, monkeypatch):
+    """Figures are set up before the NetCDF write (to draw while it writes); a failure
+    there still writes the results first, then raises."""
+    import clearance.plot as plot
+
+    def broken(*a, **k):
+        raise KeyError("no figure for this kind (simulated)")
+
+    monkeypatch.setattr(plot, "start_figures", broken)
+    s = short("ups_upu", **{"trajectory.duration": 0.01, "output.figures": True})
+    with pytest.raises(KeyError, match="simulated"):
+        run_scenario(s, out_dir=tmp_path, log=None)
+    back = load_results(tmp_path / f"{s.name}.nc")
+    assert back["clearance"].sizes["time"] > 1
+
+
+def test_deferred_write_writes_later_and_counts_in_the_total(tmp_path):
+    s = short("ups_upu", **{"trajectory.duration": 0.01})
+    out = run_scenario(s, out_dir=tmp_path, defer_write=True, log=None)
+    assert out.files == [] and not list(tmp_path.glob("*.nc"))
+    total = out.timings["total"]
+    files = out.write()
+    assert files and files[0].exists() and out.write() == files  # once
+    assert out.timings["write"] > 0 and out.timings["total"] > total
+
+
 def test_warm_worker_is_free_once_a_scenario_ran(monkeypatch, tmp_path):
     """A study worker warms up with a tiny run, unless this process already ran one."""
     import clearance.pipeline as P

@@ -411,7 +411,9 @@ values = [1e-4, 2e-4, 3e-4]
         return real(s, *args, **kw)
 
     monkeypatch.setattr(P, "write_outputs", flaky)
+    before = dask.config.get("scheduler", None)
     rep = run_study(study, scheduler="serial", retries=retries, progress=False)
+    assert dask.config.get("scheduler", None) == before  # the writes' local lock undone
     sc = sidecars(study.folder)
     others = [c.id for c in study.cases if c.id != victim]
     assert all(sc[c]["status"] == "finished" and sc[c]["attempts"] == 1 for c in others)

@@ -59,12 +59,13 @@ class RunOutput:
     def write(self) -> list:
         """Write the files of a `run_scenario(..., defer_write=True)` run (once; a second
         call, or a run that wrote them already, returns them). Its stages ("datasets",
-        "write", ...) are added to `timings`."""
+        "write", ...) are added to `timings`, and their time to its "total"."""
         if self._write is not None:
             timer = StageTimer()
             self.files = self._write(timer=timer)
             self._write = None
             self.timings.update(timer)
+            self.timings["total"] = self.timings.get("total", 0.0) + sum(timer.values())
         return self.files
 
 
@@ -328,8 +329,10 @@ class ColdCompile:
         # the child's contact update, then `start` (which calls it) from the cache; a
         # child that never gets there (killed, failed) only costs this process the
         # compile of both
+        give_up = time.monotonic() + 1800  # as `_wait`: never forever
         while not self.ready.wait(timeout=0.5) and self.child.is_alive():
-            pass
+            if time.monotonic() > give_up:
+                break
         opts, out = _loop_inputs(self.cc)
         start(m, wk, cs, opts, out, 0.0, y)
 
@@ -551,6 +554,9 @@ class _Background:
             self._error = e
         self.seconds = time.perf_counter() - t0
 
+    def join(self) -> None:
+        self._thread.join()
+
     def result(self):
         self._thread.join()
         if self._error is not None:
@@ -702,25 +708,39 @@ def run_scenario(
         timer["ideal"] = 0.0
         timer["reused_ideal"] = 1.0
         start_ref = r_ideal
-    with timer("clearance"):
-        _say(
-            log,
-            f"[4/5] clearance mechanism ({', '.join(info.clearance_joints)}; initial "
-            f"placement {s.clearance.initial.value})",
-        )
-        y0 = None
-        if start_ref.t.size:
-            y0 = _start_from(start_ref, cc, ideal, s)
-            if s.clearance.initial == InitialPlacement.REACTION:
-                y0 = place_balls_along_reaction(clr, start_ref, y0, info.clearance_joints)
-        r_clr = simulate(cc, t_end, y0=y0, **kw)
-    if ideal_run is not None:  # (a failure above leaves it to finish on its own)
-        r_ideal = ideal_run.result()
+
+    def ideal_done() -> Result:
+        """The ideal run, joined; remembered for the next case (before the clearance run
+        is known to succeed: a retried case reuses it)."""
+        r = ideal_run.result()
         timer["ideal"] = ideal_run.seconds
-        _say(log, f"      ideal: {r_ideal.message}; wall {r_ideal.stats['wall_time']:.3f} s")
         if key is not None:
             _IDEAL_MEMO.clear()  # one entry: the memory of one ideal run
-            _IDEAL_MEMO[key] = (ik, ideal, r_ideal, drives)
+            _IDEAL_MEMO[key] = (ik, ideal, r, drives)
+        return r
+
+    try:
+        with timer("clearance"):
+            _say(
+                log,
+                f"[4/5] clearance mechanism ({', '.join(info.clearance_joints)}; initial "
+                f"placement {s.clearance.initial.value})",
+            )
+            y0 = None
+            if start_ref.t.size:
+                y0 = _start_from(start_ref, cc, ideal, s)
+                if s.clearance.initial == InitialPlacement.REACTION:
+                    y0 = place_balls_along_reaction(clr, start_ref, y0, info.clearance_joints)
+            r_clr = simulate(cc, t_end, y0=y0, **kw)
+    except Exception:  # no thread left behind (an interrupt does not wait for it)
+        if ideal_run is not None:
+            with contextlib.suppress(Exception):
+                ideal_done()
+        imports.join()
+        raise
+    if ideal_run is not None:
+        r_ideal = ideal_done()
+        _say(log, f"      ideal: {r_ideal.message}; wall {r_ideal.stats['wall_time']:.3f} s")
     _say(log, f"      {r_clr.message}; wall {r_clr.stats['wall_time']:.3f} s")
     imports.result()
     with timer("summary"):
@@ -776,14 +796,17 @@ def write_outputs(
         "clearance_version": clearance.__version__,
         **attrs,
     }
-    pending = None
+    pending = figure_error = None
     if figures:  # forked processes draw while this one writes (figures: the wait for them)
         from clearance.plot import start_figures
 
         with timer("figures"):
-            pending = start_figures(
-                ds, out / "figures", platform=platform, formats=(s.output.figure_format,)
-            )
+            try:
+                pending = start_figures(
+                    ds, out / "figures", platform=platform, formats=(s.output.figure_format,)
+                )
+            except Exception as e:  # raised once the results are written
+                figure_error = e
     try:
         with timer("write"):
             files = [save_results(out / f"{s.name}.nc", ds, attrs=root)]
@@ -804,6 +827,8 @@ def write_outputs(
         if pending is not None:
             pending.cancel()  # no drawing processes left behind
         raise
+    if figure_error is not None:
+        raise figure_error
     if pending is not None:
         with timer("figures"):
             files += pending.result()

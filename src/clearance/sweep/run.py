@@ -169,7 +169,9 @@ def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callabl
         d["scenario"] = {**d["scenario"], "name": cid}
         d["output"] = {**d.get("output", {}), "figures": False, "formats": ["netcdf"]}
         s = scenario_from_dict(d, source=source)
-        with local():
+        # (a deferred write leaves this part no NetCDF to write, and a second thread may
+        # be writing the previous case under `local()`: dask's config is process-wide)
+        with contextlib.nullcontext() if defer_write else local():
             out = run_scenario(
                 s,
                 out_dir=folder / CASES,
@@ -178,7 +180,6 @@ def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callabl
                 defer_write=defer_write,
                 log=None,
             )
-        metrics = compute_metrics(CaseData.from_run(out), task["metrics"])
     except Exception as e:
         failed(e, time.perf_counter() - t0)
         raise
@@ -191,6 +192,8 @@ def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callabl
         try:
             with local():
                 out.write()
+            # after the write: the timings (the wall_time metric) include it either way
+            metrics = compute_metrics(CaseData.from_run(out), task["metrics"])
         except Exception as e:
             failed(e, ran + time.perf_counter() - t1)
             raise
@@ -310,27 +313,28 @@ def warm_worker() -> float:
 def _run_serial(tasks: list[dict], labels: dict, retries: int, tr: _Tracker) -> None:
     """The cases one after the other in this process; each case's result file is written
     in a second thread while the next case integrates (one write at a time; the kernels
-    and most of the write release the GIL). A case whose write fails runs again, here."""
+    and most of the write release the GIL). A case whose write fails runs again, here,
+    with the attempts it has left."""
     import threading
 
     warm = warm_worker()
     if tr.say is not None:
         tr.say(f"warmed up in {warm:.1f} s (imports, kernels), not counted in the cases")
-    behind: list = []  # [(task, thread, box)] of the write in flight
+    behind: list = []  # [(task, attempts used, thread, box)] of the write in flight
 
-    def settle() -> None:
+    def settle(rerun: bool = True) -> None:
         if not behind:
             return
-        t, thread, box = behind.pop()
-        thread.join()
+        t, used, thread, box = behind[0]
+        thread.join()  # (before forgetting it: an interrupt here still finds it below)
+        behind.clear()
         if "info" in box:
             tr.finished(box["info"], labels[t["case"]])
-        elif retries > 0:  # that was an attempt (its sidecar says why): the rest, here
-            _run_one(t, labels, retries - 1, tr, defer=False)
+        elif rerun and used <= retries:  # that write was an attempt; its sidecar says why
+            _run_one(t, labels, retries - used, tr, defer=False)
         else:
-            tr.failed(
-                t["case"], _record_failure(Path(t["folder"]), t, box["error"]), labels[t["case"]]
-            )
+            reason = _record_failure(Path(t["folder"]), t, box["error"])
+            tr.failed(t["case"], reason, labels[t["case"]])
 
     def finish(box: dict, fn: Callable[[], dict]) -> None:
         try:
@@ -338,27 +342,30 @@ def _run_serial(tasks: list[dict], labels: dict, retries: int, tr: _Tracker) -> 
         except Exception as e:  # recorded in the sidecar by the case
             box["error"] = e
 
+    done = False
     try:
         for t in tasks:
-            fn = _run_one(t, labels, retries, tr, defer=True)
+            fn, used = _run_one(t, labels, retries, tr, defer=True)
             settle()
             if fn is not None:
                 box: dict = {}
                 thread = threading.Thread(target=finish, args=(box, fn), daemon=True)
                 thread.start()
-                behind.append((t, thread, box))
-    finally:
-        settle()  # an interrupted study still finishes the write in flight
+                behind.append((t, used, thread, box))
+        done = True
+    finally:  # an interrupted study still finishes the write in flight, and no more
+        settle(rerun=done)
 
 
 def _run_one(t: dict, labels: dict, retries: int, tr: _Tracker, *, defer: bool):
-    """Run case t with its retries: its finishing function (defer), or None once it is
-    finished (reported) or failed for good (recorded and reported)."""
+    """Run case t with up to `retries` retries: (its finishing function, attempts used)
+    with defer, else (None, attempts used) once it is finished (reported) or failed for
+    good (recorded and reported)."""
     for attempt in range(retries + 1):
         try:
             fn = start_case(t, defer_write=defer)
             if defer:
-                return fn
+                return fn, attempt + 1
             info = fn()
         except Exception as e:  # recorded in the sidecar by start_case
             if attempt == retries:
@@ -366,8 +373,8 @@ def _run_one(t: dict, labels: dict, retries: int, tr: _Tracker, *, defer: bool):
                 tr.failed(t["case"], reason, labels[t["case"]])
             continue
         tr.finished(info, labels[t["case"]])
-        return None
-    return None
+        return None, attempt + 1
+    return None, retries + 1
 
 
 def _client(scheduler: Any, n_workers: int | None, retries: int, n_tasks: int):
