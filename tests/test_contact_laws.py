@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad, solve_ivp
 from scipy.special import gamma
 
+import clearance as cl
 from clearance.compile.calibration import hertz_stiffness, kelvin_voigt_damping, winkler_kf
 from clearance.compile.laws import ContactGeometry, encode_friction, encode_normal
 from clearance.contact.laws import (
@@ -571,3 +572,34 @@ def test_deprecated_law_entry_points_warn_and_agree():
     assert code == ref[0] and np.array_equal(par, ref[1])
     with pytest.warns(DeprecationWarning):
         assert encode_friction(LuGre())[0] == LuGre().encode()[0]
+
+
+@pytest.mark.parametrize(
+    "make,field,allowed",
+    [
+        (lambda: cl.LuGre(mu_c=0.2, mu_s=0.1), "mu_s", "mu_s >= mu_c = 0.2"),
+        (lambda: cl.Stribeck(mu_s=0.05, mu_d=0.1), "mu_s", "mu_s >= mu_d = 0.1"),
+        (lambda: cl.Coulomb(v0=1e-3, v1=1e-4), "v1", "must exceed v0"),
+        (
+            lambda: cl.Clearance(ball_radius=0.015, radial_clearance=0.015),
+            "radial_clearance",
+            "below ball_radius = 0.015 m",
+        ),
+        (
+            lambda: cl.Clearance(ball_radius=0.015, socket_radius=0.04),
+            "socket_radius",
+            "below ball_radius",
+        ),
+        (
+            lambda: cl.RevoluteClearance(journal_radius=0.01, radial_clearance=0.02),
+            "radial_clearance",
+            "below journal_radius",
+        ),
+    ],
+)
+def test_physical_relations_between_fields_are_checked(make, field, allowed):
+    """Relations a single field cannot check: static friction at least the sliding level,
+    the ramp's end above its start, a clearance gap below the radius it surrounds."""
+    with pytest.raises(ModelError) as err:
+        make()
+    assert err.value.field == field and allowed in err.value.allowed

@@ -157,7 +157,7 @@ def test_scenario_latched_equals_kernel(scenario, case):
 @pytest.mark.parametrize(
     "normal, friction",
     [
-        (HuntCrossley(restitution=0.7), LuGre(velocity_damping=False, mu_c=0.2)),
+        (HuntCrossley(restitution=0.7), LuGre(velocity_damping=False, mu_c=0.2, mu_s=0.3)),
         (Hertz(stiffness=5e10), NoFriction()),
     ],
 )

@@ -267,6 +267,38 @@ BROKEN = [
         "'dopri5', 'tsit5', 'rk4'",
     ),
     (
+        "zero Young's modulus",
+        'friction = { law = "lugre", mu_c = 0.1 }',
+        'friction = { law = "lugre", mu_c = 0.1 }\nball_material = { E = 0.0, nu = 0.3 }',
+        "clearance.joints.S_1.ball_material.E",
+        "0.0",
+        "> 0",
+    ),
+    (
+        "Poisson ratio above 0.5",
+        'friction = { law = "lugre", mu_c = 0.1 }',
+        'friction = { law = "lugre", mu_c = 0.1 }\nsocket_material = { E = 2e11, nu = 0.7 }',
+        "clearance.joints.S_1.socket_material.nu",
+        "0.7",
+        "-1 < nu <= 0.5",
+    ),
+    (
+        "static friction below Coulomb",
+        "mu_c = 0.1",
+        "mu_c = 0.2, mu_s = 0.1",
+        "clearance.joints.S_1.friction.mu_s",
+        "0.1",
+        "mu_s >= mu_c",
+    ),
+    (
+        "clearance as large as the ball",
+        "radial_clearance = 0.0003",
+        "radial_clearance = 1.0",
+        "clearance.joints.S_1.radial_clearance",
+        "1.0",
+        "below ball_radius = 0.015 m",
+    ),
+    (
         "invalid TOML syntax",
         "radial_clearance = 0.0003",
         "radial_clearance = 0.3 mm",
@@ -295,6 +327,12 @@ def test_broken_files_name_file_field_value(
     assert f"field '{field}' = {value} is invalid" in msg, msg
     assert allowed in msg, msg
     assert e.problems[0].field == field
+
+
+def test_a_byte_order_mark_is_skipped(tmp_path: Path) -> None:
+    path = tmp_path / "bom.toml"
+    path.write_text("\ufeff" + MINIMAL, encoding="utf-8")
+    assert load_scenario(path) == loads_scenario(MINIMAL, source=str(path))
 
 
 def test_minimal_file_is_valid() -> None:

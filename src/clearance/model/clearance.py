@@ -109,6 +109,14 @@ def _radii(obj: object, who: str, inner: str, outer: str) -> None:
     else:
         c = _pos(who, "radial_clearance", c_given)  # kept exactly as given
         ro = ri + c
+    if c >= ri:  # a gap as large as the radius: a ball loose in a hollow, not a joint
+        field = outer if c_given is None else "radial_clearance"
+        raise ModelError(
+            who,
+            field,
+            ro_given if c_given is None else c_given,
+            f"expected a radial clearance below {inner} = {ri} m (c = {c} m)",
+        )
     _set(obj, "given", outer if c_given is None else "radial_clearance")
     _set(obj, inner, ri)
     _set(obj, outer, ro)

@@ -419,6 +419,13 @@ class Stribeck(FrictionContactLaw):
     def __post_init__(self) -> None:
         _set(self, "mu_s", _nonneg("Stribeck", "mu_s", self.mu_s))
         _set(self, "mu_d", _nonneg("Stribeck", "mu_d", self.mu_d))
+        if self.mu_s < self.mu_d:
+            raise ModelError(
+                "Stribeck",
+                "mu_s",
+                self.mu_s,
+                f"expected mu_s >= mu_d = {self.mu_d} (static >= dynamic)",
+            )
         _set(self, "v_s", _positive("Stribeck", "v_s", self.v_s))
         _set(
             self,
@@ -458,6 +465,13 @@ class LuGre(FrictionContactLaw):
         # g(v) >= min(mu_c, mu_s) divides z_dot: both must be > 0
         for name in ("mu_c", "mu_s", "v_s"):
             _set(self, name, _positive("LuGre", name, getattr(self, name)))
+        if self.mu_s < self.mu_c:
+            raise ModelError(
+                "LuGre",
+                "mu_s",
+                self.mu_s,
+                f"expected mu_s >= mu_c = {self.mu_c} (static >= Coulomb)",
+            )
         if not isinstance(self.velocity_damping, bool):
             raise ModelError(
                 "LuGre", "velocity_damping", self.velocity_damping, "expected True or False"

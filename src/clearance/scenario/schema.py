@@ -470,11 +470,16 @@ def _optional(f: dataclasses.Field) -> bool:
 
 def _construct(cls: type, kwargs: dict, path: str, problems: Problems) -> Any:
     """cls(**kwargs); on ModelError report it at path.<field>, drop that field and retry so
-    that further bad fields are reported too. None if anything was wrong."""
+    that further bad fields are reported too. None if anything was wrong. (A dropped field
+    that the class requires ends the retries: it is reported already.)"""
     kw, failed = dict(kwargs), False
     for _ in range(len(kw) + 1):
         try:
             obj = cls(**kw)
+        except TypeError:
+            if failed:  # a required field was dropped above
+                return None
+            raise
         except ModelError as e:
             failed = True
             problems.add(f"{path}.{e.field}", e.value, e.allowed)

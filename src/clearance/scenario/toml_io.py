@@ -82,7 +82,7 @@ def read_toml(path: str | os.PathLike) -> dict:
     """The raw dict of a TOML file; ScenarioError for a missing file or bad syntax."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a byte-order mark (Windows editors): skipped
     except FileNotFoundError:
         raise ScenarioError(str(p), "(file)", str(p), "file not found") from None
     except (OSError, UnicodeDecodeError) as e:
