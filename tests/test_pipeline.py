@@ -415,3 +415,34 @@ def test_warm_worker_is_free_once_a_scenario_ran(monkeypatch, tmp_path):
     monkeypatch.setattr(P, "_RAN", False)
     assert warm_worker() > 0.0 and P._RAN
     assert warm_worker() == 0.0
+
+
+@pytest.mark.parametrize(
+    "name,stem",
+    [("ups_upu", "ups_upu"), ("../../x", "_.._x"), ("a/b:c", "a_b_c"), ("x" * 300, None)],
+)
+def test_result_files_stay_in_their_folder_under_a_usable_name(tmp_path, name, stem):
+    """The scenario name names the files: path separators cannot lead outside the output
+    folder, and a 300-character name still makes a file (it failed after the run)."""
+    from clearance.io.files import STEM_BYTES
+
+    s = short("ups_upu", **{"trajectory.duration": 0.01, "scenario.name": name})
+    out = tmp_path / "deep" / "out"
+    o = run_scenario(s, out_dir=out, log=None)
+    (nc,) = [f for f in o.files if f.suffix == ".nc"]
+    assert nc.parent == out and nc.exists()
+    assert len(nc.stem.encode()) <= STEM_BYTES
+    if stem is not None:
+        assert nc.stem == stem
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["deep"]  # nothing beside
+
+
+def test_an_unwritable_output_folder_is_refused_before_the_run(tmp_path):
+    from clearance.scenario import ScenarioError
+
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder")
+    s = short("ups_upu", **{"trajectory.duration": 0.01})
+    with pytest.raises(ScenarioError) as err:
+        run_scenario(s, out_dir=blocker / "out", log=lambda m: pytest.fail(f"ran: {m}"))
+    assert err.value.field == "output.folder" and "cannot write results there" in str(err.value)

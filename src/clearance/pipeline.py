@@ -572,6 +572,26 @@ def _import_writers(figures: bool) -> None:
         import clearance.plot.figures  # noqa: F401  (matplotlib)
 
 
+def _writable(out: Path, s: Scenario) -> None:
+    """Create the output folder and check that it takes files (ScenarioError otherwise)."""
+    import tempfile
+
+    from clearance.scenario import ScenarioError
+
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=out, prefix=".clearance-probe-"):
+            pass
+    except OSError as e:
+        raise ScenarioError(
+            str(s.source),
+            "output.folder",
+            str(out),
+            f"cannot write results there ({e.strerror or e}); choose another folder "
+            "([output] folder or --out)",
+        ) from None
+
+
 class StageTimer(dict):
     """Wall time per stage [s]: `with timer("write"): ...` adds to timer["write"]."""
 
@@ -640,6 +660,7 @@ def run_scenario(
     with timer("build"):
         s = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
         out = Path(out_dir if out_dir is not None else s.output.folder)
+        _writable(out, s)  # before anything runs, not after it
         _say(log, f"[1/5] building '{s.name}' ({s.mechanism.type.value})")
         key = _ideal_key(s) if reuse_ideal else None
         memo = _IDEAL_MEMO.get(key) if key is not None else None
@@ -785,6 +806,7 @@ def write_outputs(
     and version in the attributes), the exports its [output] formats ask for and, with
     `figures`, the figures in its figure format, drawn from the datasets in memory."""
     from clearance.io.dataset import result_to_dataset, save_results
+    from clearance.io.files import output_stem
 
     timer = timer if timer is not None else StageTimer()
     with timer("datasets"):
@@ -809,7 +831,8 @@ def write_outputs(
                 figure_error = e
     try:
         with timer("write"):
-            files = [save_results(out / f"{s.name}.nc", ds, attrs=root)]
+            stem = output_stem(s.name)
+            files = [save_results(out / f"{stem}.nc", ds, attrs=root)]
         with timer("export"):
             fmts = s.output.formats
             if "csv" in fmts or "mat" in fmts:
@@ -818,11 +841,11 @@ def write_outputs(
                 if "csv" in fmts:
                     files += export_csv(files[0], out)
                 if "mat" in fmts:
-                    files.append(export_mat(files[0], out / f"{s.name}.mat"))
+                    files.append(export_mat(files[0], out / f"{stem}.mat"))
             if "npz" in fmts:
                 from clearance.io.npz import save_npz
 
-                files += [save_npz(r, out / f"{s.name}_{k}.npz") for k, r in runs.items()]
+                files += [save_npz(r, out / f"{stem}_{k}.npz") for k, r in runs.items()]
     except BaseException:
         if pending is not None:
             pending.cancel()  # no drawing processes left behind

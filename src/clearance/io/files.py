@@ -30,3 +30,25 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
         raise
+
+
+STEM_BYTES = 120  # UTF-8 bytes of a result file's stem: room for suffixes within 255
+_UNSAFE = frozenset('/\\:*?"<>|')
+
+
+def output_stem(name: str) -> str:
+    """The stem of the files named after a scenario or case `name`: the name itself when it
+    is a safe file name (every shipped one is), else path separators, control characters and
+    characters that Windows refuses replaced by '_', leading dots and spaces dropped (no
+    '..', no hidden file), and at most STEM_BYTES bytes (a longer name keeps its start and
+    gains an 8-character hash of the whole, so two long names stay apart). Results are
+    therefore written inside their output folder, under a name the file system accepts."""
+    import hashlib
+
+    stem = "".join("_" if ch in _UNSAFE or ord(ch) < 32 else ch for ch in str(name))
+    stem = stem.lstrip(". ").rstrip() or "scenario"
+    if len(stem.encode()) > STEM_BYTES:
+        tag = hashlib.sha256(str(name).encode()).hexdigest()[:8]
+        head = stem.encode()[: STEM_BYTES - 9].decode(errors="ignore")
+        stem = f"{head}_{tag}"
+    return stem
