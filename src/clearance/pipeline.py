@@ -29,6 +29,7 @@ from clearance.io.outputs import resolve_outputs
 from clearance.model.bodies import Marker, quaternion_to_rotation
 from clearance.model.clearance import Clearance
 from clearance.model.drivers import OffsetDriver
+from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
 from clearance.scenario.build import with_clearances
@@ -572,6 +573,22 @@ def _import_writers(figures: bool) -> None:
         import clearance.plot.figures  # noqa: F401  (matplotlib)
 
 
+def _fits_in_memory(clr: Mechanism, info, s: Scenario) -> None:
+    """ScenarioError (solver.dt_out) when the clearance run's arrays at the scenario's
+    output interval would not fit in memory (`integrate.simulate.check_output_size`)."""
+    from clearance.integrate.simulate import check_output_size
+    from clearance.scenario import ScenarioError
+
+    dt = info.simulate_kwargs.get("dt_out")
+    if dt is None:
+        return
+    n = int(math.floor(info.t_end / dt + 1e-9)) + 2
+    try:
+        check_output_size(compile_mechanism(clr), n, info.t_end)
+    except ModelError as e:
+        raise ScenarioError(str(s.source), "solver.dt_out", dt, e.allowed) from None
+
+
 def _writable(out: Path, s: Scenario) -> None:
     """Create the output folder and check that it takes files (ScenarioError otherwise)."""
     import tempfile
@@ -670,6 +687,7 @@ def run_scenario(
         else:
             ik = r_ideal = None
             ideal, clr, info = build_mechanisms(s)
+    _fits_in_memory(clr, info, s)  # before the inverse kinematics, not after
     cold = ColdCompile(clr, info.simulate_kwargs["method"])
     if memo is not None:
         _say(log, "[2/5] inverse kinematics and ideal run: the same as the previous case")

@@ -178,10 +178,12 @@ def simulate(
             if not dt_out > 0:
                 raise ModelError("simulate", "dt_out", dt_out, "expected a number > 0")
             n = int(math.floor((t_end - t_start) / dt_out + 1e-9))
+            check_output_size(c, n + 2, t_end - t_start)  # before np.arange allocates
             t_out = t_start + dt_out * np.arange(n + 1)
             if t_out[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):
                 t_out = np.append(t_out, t_end)
     t_out = np.ascontiguousarray(t_out, dtype=float)
+    check_output_size(c, t_out.size, float(t_out[-1] - t_out[0]) if t_out.size else 0.0, "t_out")
     if t_out.ndim != 1 or t_out.size == 0 or np.any(np.diff(t_out) <= 0) or t_out[0] < t_start:
         raise ModelError("simulate", "t_out", t_out[:5], "expected increasing times >= t_start")
     y = initial_state(c, t=t_start, y0=y0, assemble_positions=assemble_positions)
@@ -242,6 +244,58 @@ def simulate(
             projection=projection,
             projection_tol=projection_tol,
         ),
+    )
+
+
+def sample_bytes(c: Compiled) -> int:
+    """Bytes one output sample of `c` takes in a run's arrays: the state and contact state
+    the loop writes, and what the post-processing derives (accelerations, multipliers,
+    violations, energies, reactions, clearance diagnostics)."""
+    nbk = len(c.joints) + len(c.drivers)
+    floats = (
+        1  # t
+        + c.ny
+        + 2 * c.ncp
+        + c.nv
+        + 3 * c.nrow
+        + 3
+        + 6 * nbk
+        + c.nclr * NCOUT
+        + c.ncp * NPOUT
+    )
+    return 8 * floats
+
+
+def memory_budget() -> int:
+    """Bytes a run's arrays may take: CLEARANCE_MEMORY_BUDGET [GiB] if set, else half of
+    this machine's physical memory (8 GiB where it cannot be read)."""
+    import os
+
+    env = os.environ.get("CLEARANCE_MEMORY_BUDGET")
+    if env:
+        return int(float(env) * 2**30)
+    try:
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // 2
+    except (ValueError, OSError, AttributeError):
+        return 8 * 2**30
+
+
+def check_output_size(c: Compiled, n: int, span: float, field: str = "dt_out") -> None:
+    """ModelError before anything is allocated when `n` output samples over `span`
+    seconds would not fit in `memory_budget()`: says how much, and the output interval
+    that fits."""
+    need, budget = n * sample_bytes(c), memory_budget()
+    if need <= budget:
+        return
+    fits = span / max(budget // sample_bytes(c) - 1, 1)
+    raise ModelError(
+        "simulate",
+        field,
+        f"{n} samples",
+        f"the run's arrays would take about {need / 2**30:.3g} GiB, above the memory budget "
+        f"of {budget / 2**30:.3g} GiB (half of this machine's memory, or "
+        f"CLEARANCE_MEMORY_BUDGET [GiB]); use an output interval of at least {fits:.3g} s "
+        "or a shorter run",
     )
 
 

@@ -37,6 +37,7 @@ class Field:
     """One scenario field: kind (see `check_kind`), default (REQUIRED if none), unit, doc.
 
     kind "choice": one of `choices`; "choices": a list of distinct values from `choices`.
+    minimum: the smallest value a "positive" field takes (None: any number > 0).
     """
 
     kind: str
@@ -44,6 +45,7 @@ class Field:
     unit: str = ""
     doc: str = ""
     choices: tuple[str, ...] = ()
+    minimum: float | None = None
 
     @property
     def required(self) -> bool:
@@ -69,6 +71,8 @@ def check_kind(f: Field, value: object) -> tuple[bool, object, str]:
         )
         return ok, tuple(value) if ok else value, f"expected a list of distinct values: {allowed}"
     allowed = _ALLOWED[k] + unit
+    if k == "positive" and f.minimum is not None:
+        allowed = f"expected a finite number >= {f.minimum:g}{unit}"
     if k == "text":
         return isinstance(value, str), value, allowed
     if k == "name":
@@ -89,7 +93,7 @@ def check_kind(f: Field, value: object) -> tuple[bool, object, str]:
         return False, value, allowed
     v = float(value)  # type: ignore[arg-type]
     if k == "positive":
-        return math.isfinite(v) and v > 0.0, v, allowed
+        return math.isfinite(v) and v > 0.0 and v >= (f.minimum or 0.0), v, allowed
     if k == "positive_inf":
         return v > 0.0, v, allowed
     if k == "nonneg":

@@ -174,7 +174,9 @@ TRAJECTORY_FIELDS = {
     "shape": Field(
         "choice", "rest-to-rest", doc="g(t)", choices=tuple(s.value for s in TrajectoryShape)
     ),
-    "duration": Field("positive", 2.0, "s", "simulated time t_end"),
+    # below a nanosecond the inverse kinematics' spline knots underflow (1e-300 s: LAPACK
+    # 'DLASCL illegal value', then 'SVD did not converge')
+    "duration": Field("positive", 2.0, "s", "simulated time t_end", minimum=1e-9),
     "period": Field("positive", None, "s", "period of g(t); default: duration"),
 }
 CLEARANCE_FIELDS = {
