@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import json
 import math
 import time
 from collections.abc import Callable
@@ -23,6 +24,7 @@ import numpy as np
 import clearance
 from clearance.analysis.assembly import assemble, velocity_analysis
 from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
+from clearance.analysis.plausibility import plausibility
 from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.integrate.simulate import initial_state, latch_contacts, simulate
 from clearance.io.outputs import resolve_outputs
@@ -135,8 +137,18 @@ def summarize(ideal: Result, clr: Result, platform: str, *, skip: float = SKIP_S
             "real_time_factor": sim_time / wall if wall > 0 else math.inf,
             "steps": r.stats["naccept"],
             "rhs_evaluations": r.stats["nfev"],
+            "plausibility": plausibility(r).as_dict(),
         }
     return out
+
+
+def implausible(summary: dict) -> list[str]:
+    """The runs of a `summarize` summary whose results are physically implausible."""
+    return [
+        k
+        for k in ("ideal", "clearance")
+        if summary.get(k, {}).get("plausibility", {}).get("status") == "implausible"
+    ]
 
 
 def format_summary(s: dict) -> str:
@@ -160,8 +172,14 @@ def format_summary(s: dict) -> str:
         )
     for label in ("ideal", "clearance"):
         r = s[label]
+        p = r.get("plausibility", {"status": "ok", "findings": []})
+        state = "ok" if r["status"] == 0 else "FAILED: " + r["message"]
+        if p["status"] == "implausible":
+            state = "IMPLAUSIBLE: " + "; ".join(p["findings"])
+        elif p["findings"]:
+            state += " (warning: " + "; ".join(p["findings"]) + ")"
         lines.append(
-            f"  {label}: {'ok' if r['status'] == 0 else 'FAILED: ' + r['message']}; "
+            f"  {label}: {state}; "
             f"energy residual {r['energy_residual']:.2e} J ({r['energy_residual_relative']:.1e} "
             f"of the energy scale); {r['steps']} steps, {r['rhs_evaluations']} rhs; wall "
             f"{r['wall_time']:.3f} s (real-time factor {r['real_time_factor']:.2f})"
@@ -526,7 +544,6 @@ def _ideal_key(s: Scenario) -> str:
     """What the inverse kinematics and the ideal run depend on: the mechanism, trajectory
     and solver sections (not the clearance joints), and the package version."""
     import hashlib
-    import json
 
     from clearance.scenario.serialize import scenario_to_dict
 
@@ -790,7 +807,14 @@ def run_scenario(
         s,
         {"ideal": r_ideal, "clearance": r_clr},
         out,
-        attrs={"ik_min_sigma": ik.min_sigma, "ik_max_condition": ik.max_condition},
+        attrs={
+            "ik_min_sigma": ik.min_sigma,
+            "ik_max_condition": ik.max_condition,
+            "plausibility": json.dumps(
+                {k: summary[k]["plausibility"] for k in ("ideal", "clearance")}
+            ),
+            "implausible": ",".join(implausible(summary)),
+        },
         groups=run_outputs(s, outputs, cc),
         platform=info.platform_body,
         figures=draw,

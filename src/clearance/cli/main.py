@@ -142,10 +142,12 @@ def run(
     ),
     timings: bool = typer.Option(False, "--timings", help="print the wall time of each stage"),
 ) -> None:
-    """Run a scenario: ideal and clearance mechanism on the same IK drives; save and plot."""
+    """Run a scenario: ideal and clearance mechanism on the same IK drives; save and plot.
+    Exit 0: done; 1: a run stopped early; 2: invalid input; 3: implausible results (the
+    summary says why)."""
     from clearance.io.outputs import check_outputs
     from clearance.model.errors import KinematicsError, ModelError
-    from clearance.pipeline import STAGES, format_summary, run_scenario
+    from clearance.pipeline import STAGES, format_summary, implausible, run_scenario
     from clearance.scenario import ScenarioError
 
     extra = None
@@ -181,6 +183,8 @@ def run(
         typer.echo(f"  {f}")
     if not (o.ideal.success and o.clearance.success):
         raise typer.Exit(1)
+    if implausible(o.summary):  # reached the end, but not a motion physics allows
+        raise typer.Exit(3)
 
 
 @app.command()

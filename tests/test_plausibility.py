@@ -1,0 +1,98 @@
+"""Plausibility of finished runs (issue 11): never "ok" for a ball outside its socket."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from clearance.analysis.plausibility import (
+    ENERGY_IMPLAUSIBLE,
+    ENERGY_WARNING,
+    PENETRATION_WARNING,
+    plausibility,
+)
+from clearance.cli.main import app
+from clearance.io.dataset import load_results
+from clearance.pipeline import format_summary, run_scenario
+from clearance.scenario import default_scenario_path, load_scenario, with_overrides
+
+
+def fake_run(depth: float, impacts: int = 3, residual: float = 0.0, c=3e-4, r=0.015):
+    """What `plausibility` reads of a Result: one clearance joint, an energy record."""
+    t = np.linspace(0.0, 1.0, 11)
+    return SimpleNamespace(
+        compiled=SimpleNamespace(clearances=[SimpleNamespace(c=c, ball_radius=r)]),
+        clearance_names=["S_1"],
+        peak_penetration=lambda name: (depth, 0.5),
+        impacts=lambda name: list(range(impacts)),
+        t=t,
+        energy={
+            "kinetic": np.full(11, 2.0),
+            "potential": np.full(11, -1.0),
+            "residual": np.full(11, residual * 3.0),  # energy scale 3 J
+        },
+    )
+
+
+@pytest.mark.parametrize(
+    "depth,impacts,residual,status,words",
+    [
+        (4e-6, 19, 3e-9, "ok", None),  # the default scenario's numbers
+        (0.3 * 3e-4, 5, 0.0, "warning", "of the clearance"),
+        (26e-3, 5, 0.0, "implausible", "times the clearance"),  # Hertz K = 1
+        (2e-4, 5, 0.0, "implausible", "times the clearance"),  # 0.1 R rule: r = 1.5 mm
+        (0.0, 0, 0.0, "warning", "never touched"),
+        (4e-6, 5, 2 * ENERGY_WARNING, "warning", "energy balance"),
+        (4e-6, 5, 2 * ENERGY_IMPLAUSIBLE, "implausible", "energy balance"),
+    ],
+)
+def test_thresholds(depth, impacts, residual, status, words):
+    r = 0.0015 if depth == 2e-4 else 0.015
+    p = plausibility(fake_run(depth, impacts, residual, r=r))
+    assert p.status == status, p
+    assert (words is None and not p.findings) or any(words in f for f in p.findings)
+
+
+def test_warning_threshold_is_a_fraction_of_the_clearance():
+    just_below = plausibility(fake_run(0.99 * PENETRATION_WARNING * 3e-4))
+    assert just_below.status == "ok"
+
+
+def test_a_ball_through_its_socket_is_never_ok(tmp_path):
+    """Hertz K = 1 N/m^1.5 (a typo for 1e10): the run reaches its end with the ball deep
+    in the wall; the summary, the file and the exit code say implausible."""
+    s = load_scenario(default_scenario_path())
+    s = with_overrides(
+        s,
+        {
+            "trajectory.duration": 0.05,
+            "solver.dt_out": 1e-3,
+            "output.figures": False,
+            "clearance.joints.S_1.normal": {"law": "hertz", "stiffness": 1.0},
+        },
+    )
+    o = run_scenario(s, out_dir=tmp_path, log=None)
+    assert o.clearance.success  # the integrator has nothing to object to
+    p = o.summary["clearance"]["plausibility"]
+    assert p["status"] == "implausible" and any("S_1" in f for f in p["findings"])
+    assert "clearance: IMPLAUSIBLE: S_1" in format_summary(o.summary)
+    assert load_results(o.files[0]).attrs["implausible"] == "clearance"
+    path = tmp_path / "soft.toml"
+    from clearance.scenario import scenario_to_toml
+
+    path.write_text(scenario_to_toml(s))
+    res = CliRunner().invoke(app, ["run", str(path), "--out", str(tmp_path / "cli")])
+    assert res.exit_code == 3, res.output
+    assert "IMPLAUSIBLE" in res.output
+
+
+def test_the_default_scenario_is_plausible(tmp_path):
+    s = with_overrides(
+        load_scenario(default_scenario_path()),
+        {"trajectory.duration": 0.1, "solver.dt_out": 1e-3, "output.figures": False},
+    )
+    o = run_scenario(s, out_dir=tmp_path, log=None)
+    for run in ("ideal", "clearance"):
+        assert o.summary[run]["plausibility"] == {"status": "ok", "findings": []}
+    assert load_results(o.files[0]).attrs["implausible"] == ""
