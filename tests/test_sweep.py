@@ -459,6 +459,47 @@ values = [1e-4, 3e-4, 5e-4]
     assert math.isnan(table.loc[failing, "impacts"]) and table.loc[fine, "impacts"] > 0
 
 
+@pytest.mark.parametrize("where", ["serial", "cluster"])
+def test_input_errors_are_not_retried(client, tmp_path, where):
+    """A case whose input is wrong fails the same way on every attempt: recorded failed
+    after one, with the reason, on both schedulers; the other case finishes."""
+    params = """
+[[parameter]]
+path = "clearance.joints.S_1.radial_clearance"
+values = [1e-4, 3e-4]
+"""
+    folder = tmp_path / where
+    study = loads_study(study_text(folder, params, metrics=["impacts"]), source="i.toml")
+    bad, fine = (c.id for c in study.cases)
+    scheduler = "serial" if where == "serial" else client
+    rep = run_study(
+        study, scheduler=scheduler, retries=2, progress=False, _fault={bad: {"kind": "input"}}
+    )
+    assert list(rep.failed) == [bad] and "injected input error" in rep.failed[bad]
+    assert rep.finished == [fine]
+    sc = sidecars(folder)
+    assert sc[bad]["status"] == "failed" and sc[bad]["attempts"] == 1
+    assert "ModelError" in sc[bad]["reason"]
+
+
+def test_half_written_files_are_removed_on_resume_and_collect(serial, tmp_path):
+    """A killed run leaves its atomic writes' temporaries (a result file's can be 100 MB):
+    resuming the study or collecting it removes them; finished cases stay."""
+    study, _ = serial
+    folder = tmp_path / "left"
+    shutil.copytree(study.folder, folder)
+    before = sidecars(folder)
+    junk = [folder / "cases" / ".c1.nc.x1y2.tmp", folder / ".manifest.json.abc.tmp"]
+    for p in junk:
+        p.write_bytes(b"\0" * 1000)
+    rep = run_study(study, scheduler="serial", folder=folder, progress=False)
+    assert rep.submitted == [] and not any(p.exists() for p in junk)
+    assert sidecars(folder) == before
+    junk[0].write_bytes(b"\0")
+    collect_study(folder, dataset=False, plots=False)
+    assert not junk[0].exists()
+
+
 def test_interrupted_study_resumes_without_redoing_finished_cases(client, tmp_path):
     """`clearance sweep` in a subprocess (its own LocalCluster) is stopped with SIGTERM after
     the first case finishes; the rerun skips every finished case (their sidecars are

@@ -35,6 +35,7 @@ from clearance.sweep.store import (
     is_finished,
     read_json,
     read_manifest,
+    remove_temporaries,
 )
 from clearance.sweep.study import Case
 
@@ -82,6 +83,7 @@ def study_table(folder: str | os.PathLike, *, metrics: Sequence[str] | None = No
 
     folder = Path(folder)
     man = read_manifest(folder)
+    remove_temporaries(folder)  # what an interrupted run left half-written
     names = list(metrics) if metrics is not None else list(man["metrics"])
     params = [p["name"] for p in man["parameters"]]
     rows = []

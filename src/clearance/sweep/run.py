@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from clearance.model.errors import KinematicsError, ModelError
 from clearance.sweep.metrics import CaseData, compute_metrics
 from clearance.sweep.store import (
     CASES,
@@ -47,7 +48,10 @@ from clearance.sweep.study import Case, Study, case_scenario_dict, load_study
 __all__ = ["StudyReport", "default_workers", "run_case", "run_study", "start_case"]
 
 SERIAL = "serial"
-FAULT_EXIT_ONCE, FAULT_RAISE = "exit-once", "raise"
+# deterministic failures of a case's input (a scenario value, an unreachable trajectory):
+# recorded as failed at once instead of retried on other workers
+INPUT_ERRORS = (ModelError, KinematicsError)
+FAULT_EXIT_ONCE, FAULT_RAISE, FAULT_INPUT = "exit-once", "raise", "input"
 
 
 @dataclass
@@ -92,7 +96,7 @@ class StudyReport:
 def _fault(spec: Mapping[str, Any] | None) -> None:
     """Test hook: make this case fail. {"kind": "exit-once", "marker": path} kills the
     worker process on the first attempt only (the marker file records it); {"kind":
-    "raise"} raises on every attempt."""
+    "raise"} raises on every attempt; {"kind": "input"} raises an input error (ModelError)."""
     if not spec:
         return
     if spec["kind"] == FAULT_EXIT_ONCE:
@@ -102,6 +106,8 @@ def _fault(spec: Mapping[str, Any] | None) -> None:
             os._exit(1)
     elif spec["kind"] == FAULT_RAISE:
         raise RuntimeError(spec.get("message", "injected failure (test hook)"))
+    elif spec["kind"] == FAULT_INPUT:
+        raise ModelError("case", "fault", spec["kind"], "an injected input error (test hook)")
 
 
 def run_case(task: Mapping[str, Any]) -> dict:
@@ -121,7 +127,9 @@ def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callabl
     function it returns writes the result file, then the sidecar "finished", and returns
     the sidecar. With defer_write the result file is written by that function (a serial
     study calls it in a second thread while the next case integrates); without, by this
-    call. A failure in either part writes the sidecar "failed" and raises."""
+    call. A failure in either part writes the sidecar "failed" and raises, except an
+    input error (`INPUT_ERRORS`: it would fail the same way again), whose function
+    returns that sidecar instead: it is not retried."""
     import dask
 
     from clearance.pipeline import run_scenario
@@ -180,6 +188,9 @@ def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callabl
                 defer_write=defer_write,
                 log=None,
             )
+    except INPUT_ERRORS as e:  # the same input fails the same way: no retry
+        failed(e, time.perf_counter() - t0)
+        return lambda: read_json(side) or info
     except Exception as e:
         failed(e, time.perf_counter() - t0)
         raise
@@ -257,6 +268,13 @@ class _Tracker:
         eta = el / n * (self.total - n) if n else float("nan")
         self.say(f"[{n}/{self.total}] {msg}  (elapsed {el:.0f} s, ETA {eta:.0f} s)")
 
+    def done(self, info: Mapping[str, Any], label: str) -> None:
+        """A case's sidecar came back: finished, or failed on its input (not retried)."""
+        if info.get("status") == FAILED:
+            self.failed(info["case"], info.get("reason", ""), label)
+        else:
+            self.finished(info, label)
+
     def finished(self, info: Mapping[str, Any], label: str) -> None:
         self.report.finished.append(info["case"])
         ok = "" if info.get("success", True) else f"; run stopped: {info.get('message')}"
@@ -329,7 +347,7 @@ def _run_serial(tasks: list[dict], labels: dict, retries: int, tr: _Tracker) -> 
         thread.join()  # (before forgetting it: an interrupt here still finds it below)
         behind.clear()
         if "info" in box:
-            tr.finished(box["info"], labels[t["case"]])
+            tr.done(box["info"], labels[t["case"]])
         elif rerun and used <= retries:  # that write was an attempt; its sidecar says why
             _run_one(t, labels, retries - used, tr, defer=False)
         else:
@@ -372,7 +390,7 @@ def _run_one(t: dict, labels: dict, retries: int, tr: _Tracker, *, defer: bool):
                 reason = _record_failure(Path(t["folder"]), t, e)
                 tr.failed(t["case"], reason, labels[t["case"]])
             continue
-        tr.finished(info, labels[t["case"]])
+        tr.done(info, labels[t["case"]])
         return None, attempt + 1
     return None, retries + 1
 
@@ -441,7 +459,7 @@ def _run_dask(
             t = futures[fut]
             label = labels[t["case"]]
             if fut.status == "finished":
-                tr.finished(fut.result(), label)
+                tr.done(fut.result(), label)
             elif fut.status == "error":
                 exc = fut.exception()
                 tr.failed(t["case"], _record_failure(Path(t["folder"]), t, exc), label)
@@ -485,7 +503,7 @@ def run_study(
         study = load_study(study)
     folder = Path(folder).expanduser().resolve() if folder is not None else study.folder
     say = print if progress is True else (progress or None)
-    prepare_folder(study, folder)
+    prepare_folder(study, folder)  # (removes what an interrupted run left half-written)
     report = StudyReport(study.name, folder, len(study.cases), str(scheduler or "LocalCluster"))
     pending = [c for c in study.cases if not is_finished(folder, c)]
     todo = {c.id for c in pending}
@@ -506,6 +524,9 @@ def run_study(
         elif tasks:
             _run_dask(tasks, labels, scheduler, n_workers, retries, tr)
     except KeyboardInterrupt:
+        # count from the folder: a case a worker finished is finished, reported or not
+        on_disk = [c.id for c in pending if is_finished(folder, c)]
+        report.finished += [cid for cid in on_disk if cid not in report.finished]
         if say is not None:
             done = len(report.skipped) + len(report.finished)
             say(f"interrupted: {done} of {len(study.cases)} cases finished; rerun to resume")

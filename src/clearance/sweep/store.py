@@ -15,6 +15,7 @@ finished case never is.
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import json
 import os
@@ -37,6 +38,7 @@ __all__ = [
     "prepare_folder",
     "read_json",
     "read_manifest",
+    "remove_temporaries",
     "write_json",
 ]
 
@@ -127,6 +129,7 @@ def prepare_folder(study: Study, folder: Path) -> None:
             "scenario (or [set] values); choose another folder or delete it",
         )
     (folder / CASES).mkdir(parents=True, exist_ok=True)
+    remove_temporaries(folder)
     write_json(folder / MANIFEST, study.manifest())
     with atomic_path(folder / "base_scenario.toml") as tmp:
         tmp.write_text(dumps_toml(study.base), encoding="utf-8")
@@ -134,3 +137,17 @@ def prepare_folder(study: Study, folder: Path) -> None:
     text = src.read_text(encoding="utf-8") if src.is_file() else dumps_toml(study.document)
     with atomic_path(folder / "study.toml") as tmp:
         tmp.write_text(text, encoding="utf-8")
+
+
+def remove_temporaries(folder: Path) -> int:
+    """Delete the half-written files an interrupted or killed study left in `folder` and
+    its cases (the `.<name>.<random>.tmp` files of `atomic_path`; a result file's can be
+    100 MB); return how many. Called when a study starts or resumes and by collect: two
+    studies must not run into one folder at the same time."""
+    n = 0
+    for d in (Path(folder), Path(folder) / CASES):
+        for p in d.glob(".*.tmp"):
+            with contextlib.suppress(FileNotFoundError):
+                p.unlink()
+                n += 1
+    return n
