@@ -253,7 +253,10 @@ def test_warmup_leaves_nothing_to_compile(tmp_path):
     assert out["cache"] and out["functions"] >= 0
     with CompileNotice(None) as notice:
         for name in ("ups_upu", "sps_cu"):
-            s = short(name, **{"trajectory.duration": 0.005, "solver.method": "rk4"})
+            s = short(
+                name,
+                **{"trajectory.duration": 0.005, "solver.method": "rk4", "solver.step": 1e-5},
+            )
             run_scenario(s, out_dir=tmp_path / name, log=None)
     assert notice.compiled == 0
 

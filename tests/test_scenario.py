@@ -335,6 +335,20 @@ def test_a_byte_order_mark_is_skipped(tmp_path: Path) -> None:
     assert load_scenario(path) == loads_scenario(MINIMAL, source=str(path))
 
 
+def test_rk4_with_clearance_joints_needs_a_step_that_resolves_impacts() -> None:
+    """'rk4' (fixed step, no event location) with its default 1 ms step failed on the
+    shipped scenario with advice about the linear solver; the file is now refused with
+    the reason, and accepted with a step that resolves the impacts."""
+    text = MINIMAL.replace("rtol = 1e-6", 'rtol = 1e-6\nmethod = "rk4"')
+    with pytest.raises(ScenarioError) as info:
+        loads_scenario(text, source="rk4.toml")
+    e = info.value
+    assert e.field == "solver.step" and "does not locate contact events" in e.allowed
+    assert "(the default)" in str(e.value)
+    s = loads_scenario(text.replace('method = "rk4"', 'method = "rk4"\nstep = 1e-5'))
+    assert s.solver.method == "rk4" and s.solver.step == 1e-5
+
+
 def test_minimal_file_is_valid() -> None:
     s = loads_scenario(MINIMAL)
     assert s.name == "minimal" and list(s.clearance.joints) == ["S_1"]

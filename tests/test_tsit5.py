@@ -277,4 +277,5 @@ def test_scenario_accepts_tsit5():
     kw = s.solver.simulate_kwargs()
     assert kw["method"] == "tsit5" and kw["rtol"] == 1e-6 and kw["atol"] == 1e-9
     assert "tsit5 rtol 1e-06, atol 1e-09" in s.summary()
-    assert "rk4 h 0.001" in with_overrides(s, {"solver.method": "rk4"}).summary()
+    rk4 = with_overrides(s, {"solver.method": "rk4", "solver.step": 1e-5})
+    assert "rk4 h 1e-05" in rk4.summary()

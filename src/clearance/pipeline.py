@@ -911,6 +911,7 @@ def warmup(log: Callable[[str], None] | None = print) -> dict:
     from clearance import _kernel_cache
     from clearance.integrate.methods import METHODS
     from clearance.scenario import default_scenario_path, with_overrides
+    from clearance.scenario.schema import RK4_CLEARANCE_STEP
 
     t0 = time.perf_counter()
     short = {"trajectory.duration": 0.01, "solver.dt_out": 1e-3, "output.figures": False}
@@ -919,6 +920,8 @@ def warmup(log: Callable[[str], None] | None = print) -> dict:
     with tempfile.TemporaryDirectory() as tmp, CompileNotice(log) as notice:
         for k, (name, method) in enumerate(jobs):
             over = dict(short, **({"solver.method": method} if method else {}))
+            if method == "rk4":  # its step must resolve the impacts (RK4_CLEARANCE_STEP)
+                over["solver.step"] = RK4_CLEARANCE_STEP
             s = with_overrides(load_scenario(default_scenario_path(name)), over)
             _say(log, f"[{k + 1}/{len(jobs)}] {name}, {s.solver.method}")
             run_scenario(s, out_dir=Path(tmp) / str(k), log=None)
