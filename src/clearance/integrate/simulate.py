@@ -168,24 +168,50 @@ def simulate(
         ("rtol", rtol, 0.0),
         ("atol", atol, 0.0),
         ("step", step, 0.0),
+        ("min_step", min_step, 0.0),
+        ("projection_tol", projection_tol, 0.0),
     ):
-        if not (np.isfinite(val) and val > lo):
+        if not (_number(val) and np.isfinite(val) and val > lo):
             raise ModelError("simulate", name, val, f"expected a finite number > {lo}")
+    # a NaN here used to pass every comparison and burn max_steps before a wrong message
+    if not (_number(first_step) and np.isfinite(first_step) and first_step >= 0.0):
+        raise ModelError("simulate", "first_step", first_step, "expected a finite number >= 0")
+    if not (_number(max_step) and max_step > 0.0):  # inf: no cap
+        raise ModelError("simulate", "max_step", max_step, "expected a number > 0 (inf allowed)")
+    if not (
+        isinstance(baumgarte, (tuple, list, np.ndarray))
+        and len(baumgarte) == 2
+        and all(_number(x) and np.isfinite(x) and x >= 0.0 for x in baumgarte)
+    ):
+        raise ModelError(
+            "simulate", "baumgarte", baumgarte, "expected (alpha, beta): two finite numbers >= 0"
+        )
+    for name, val, lo in (("max_steps", max_steps, 1), ("max_events", max_events, 0)):
+        if not (isinstance(val, (int, np.integer)) and not isinstance(val, bool)):
+            raise ModelError("simulate", name, val, f"expected an integer >= {lo}")
+        if not lo <= int(val) < 2**62:
+            raise ModelError("simulate", name, val, f"expected an integer in [{lo}, 2**62)")
     if t_out is None:
         if dt_out is None:
             t_out = np.linspace(t_start, t_end, 201)
         else:
-            if not dt_out > 0:
-                raise ModelError("simulate", "dt_out", dt_out, "expected a number > 0")
+            if not (_number(dt_out) and np.isfinite(dt_out) and dt_out > 0):
+                raise ModelError("simulate", "dt_out", dt_out, "expected a finite number > 0")
             n = int(math.floor((t_end - t_start) / dt_out + 1e-9))
             check_output_size(c, n + 2, t_end - t_start)  # before np.arange allocates
             t_out = t_start + dt_out * np.arange(n + 1)
             if t_out[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):
                 t_out = np.append(t_out, t_end)
     t_out = np.ascontiguousarray(t_out, dtype=float)
-    check_output_size(c, t_out.size, float(t_out[-1] - t_out[0]) if t_out.size else 0.0, "t_out")
-    if t_out.ndim != 1 or t_out.size == 0 or np.any(np.diff(t_out) <= 0) or t_out[0] < t_start:
+    if (
+        t_out.ndim != 1
+        or t_out.size == 0
+        or not np.all(np.isfinite(t_out))
+        or np.any(np.diff(t_out) <= 0)
+        or t_out[0] < t_start
+    ):
         raise ModelError("simulate", "t_out", t_out[:5], "expected increasing times >= t_start")
+    check_output_size(c, t_out.size, float(t_out[-1] - t_out[0]), "t_out")
     y = initial_state(c, t=t_start, y0=y0, assemble_positions=assemble_positions)
     code = _solver_code(c, solver, y, t_start)
     alpha, beta = (float(x) for x in baumgarte)
@@ -244,6 +270,13 @@ def simulate(
             projection=projection,
             projection_tol=projection_tol,
         ),
+    )
+
+
+def _number(x: object) -> bool:
+    """A real number (not a bool, not a string)."""
+    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(
+        x, (bool, np.bool_)
     )
 
 
