@@ -451,7 +451,7 @@ def test_an_unwritable_output_folder_is_refused_before_the_run(tmp_path):
     assert err.value.field == "output.folder" and "cannot write results there" in str(err.value)
 
 
-def test_outputs_beyond_the_memory_budget_are_refused_before_anything_runs(monkeypatch):
+def test_outputs_beyond_the_memory_budget_are_refused_before_anything_runs(monkeypatch, tmp_path):
     """dt_out = 1e-9 over 2 s asked ~110 GiB and died in a MemoryError after the inverse
     kinematics; now the estimate refuses it at once, naming the interval that fits."""
     from clearance.integrate.simulate import memory_budget, sample_bytes
@@ -460,7 +460,7 @@ def test_outputs_beyond_the_memory_budget_are_refused_before_anything_runs(monke
     s = short("ups_upu", **{"trajectory.duration": 2.0, "solver.dt_out": 1e-9})
     said = []
     with pytest.raises(ScenarioError) as err:
-        run_scenario(s, out_dir=None, log=said.append)
+        run_scenario(s, out_dir=tmp_path, log=said.append)
     e = err.value
     assert e.field == "solver.dt_out" and e.value == 1e-9
     assert "GiB" in e.allowed and "output interval of at least" in e.allowed
@@ -471,7 +471,11 @@ def test_outputs_beyond_the_memory_budget_are_refused_before_anything_runs(monke
     monkeypatch.setenv("CLEARANCE_MEMORY_BUDGET", "0.0009765625")  # 1 MiB
     assert memory_budget() == 2**20
     n_fit = 2**20 // sample_bytes(c)
-    r = cl.simulate(c, 1e-3, t_out=np.linspace(0.0, 1e-3, n_fit - 10))
+    small = {"max_events": 100}  # the default event log alone takes 5 MB
+    r = cl.simulate(c, 1e-3, t_out=np.linspace(0.0, 1e-3, n_fit - 10), **small)
     assert r.t.size == n_fit - 10
-    with pytest.raises(cl.ModelError, match="memory budget"):
-        cl.simulate(c, 1e-3, t_out=np.linspace(0.0, 1e-3, n_fit + 10))
+    with pytest.raises(cl.ModelError, match="memory budget") as err:
+        cl.simulate(c, 1e-3, dt_out=1e-3 / (n_fit + 10), **small)
+    # the interval the message suggests does fit
+    fits = float(err.value.allowed.split("at least ")[1].split(" s")[0])
+    assert cl.simulate(c, 1e-3, dt_out=fits, **small).t.size <= n_fit

@@ -41,8 +41,8 @@ def fake_run(depth: float, impacts: int = 3, residual: float = 0.0, c=3e-4, r=0.
         (4e-6, 19, 3e-9, "ok", None),  # the default scenario's numbers
         (0.3 * 3e-4, 5, 0.0, "warning", "of the clearance"),
         (26e-3, 5, 0.0, "implausible", "times the clearance"),  # Hertz K = 1
-        (2e-4, 5, 0.0, "implausible", "times the clearance"),  # 0.1 R rule: r = 1.5 mm
-        (0.0, 0, 0.0, "warning", "never touched"),
+        (2e-4, 5, 0.0, "implausible", "of the inner radius"),  # 0.1 R rule: r = 1.5 mm
+        (0.0, 0, 0.0, "warning", "never in contact"),
         (4e-6, 5, 2 * ENERGY_WARNING, "warning", "energy balance"),
         (4e-6, 5, 2 * ENERGY_IMPLAUSIBLE, "implausible", "energy balance"),
     ],

@@ -33,6 +33,7 @@ from clearance.sweep import (
     loads_study,
     run_study,
 )
+from clearance.sweep.store import STALE_TMP
 from clearance.sweep.study import example_study_path
 
 SHORT = """\
@@ -484,7 +485,7 @@ values = [1e-4, 3e-4]
 
 def test_half_written_files_are_removed_on_resume_and_collect(serial, tmp_path):
     """A killed run leaves its atomic writes' temporaries (a result file's can be 100 MB):
-    resuming the study or collecting it removes them; finished cases stay."""
+    resuming the study removes them, collecting it the stale ones; finished cases stay."""
     study, _ = serial
     folder = tmp_path / "left"
     shutil.copytree(study.folder, folder)
@@ -495,9 +496,15 @@ def test_half_written_files_are_removed_on_resume_and_collect(serial, tmp_path):
     rep = run_study(study, scheduler="serial", folder=folder, progress=False)
     assert rep.submitted == [] and not any(p.exists() for p in junk)
     assert sidecars(folder) == before
-    junk[0].write_bytes(b"\0")
+    # collect may watch a running study: it leaves a write in progress (a fresh file)
+    # and removes one untouched for longer than STALE_TMP
+    fresh, stale = junk[0], folder / "cases" / ".c2.nc.z9.tmp"
+    fresh.write_bytes(b"\0")
+    stale.write_bytes(b"\0")
+    old = time.time() - STALE_TMP - 60
+    os.utime(stale, (old, old))
     collect_study(folder, dataset=False, plots=False)
-    assert not junk[0].exists()
+    assert fresh.exists() and not stale.exists()
 
 
 def test_interrupted_study_resumes_without_redoing_finished_cases(client, tmp_path):

@@ -174,8 +174,9 @@ def format_summary(s: dict) -> str:
         r = s[label]
         p = r.get("plausibility", {"status": "ok", "findings": []})
         state = "ok" if r["status"] == 0 else "FAILED: " + r["message"]
-        if p["status"] == "implausible":
-            state = "IMPLAUSIBLE: " + "; ".join(p["findings"])
+        if p["status"] == "implausible":  # (a stopped run keeps its reason in front)
+            head = "" if r["status"] == 0 else state + "; "
+            state = head + "IMPLAUSIBLE: " + "; ".join(p["findings"])
         elif p["findings"]:
             state += " (warning: " + "; ".join(p["findings"]) + ")"
         lines.append(
@@ -600,10 +601,12 @@ def _fits_in_memory(clr: Mechanism, info, s: Scenario) -> None:
     if dt is None:
         return
     n = int(math.floor(info.t_end / dt + 1e-9)) + 2
-    try:
-        check_output_size(compile_mechanism(clr), n, info.t_end)
+    try:  # the two runs, then their datasets: about three clearance runs' arrays
+        check_output_size(compile_mechanism(clr), n, info.t_end, copies=3)
     except ModelError as e:
-        raise ScenarioError(str(s.source), "solver.dt_out", dt, e.allowed) from None
+        err = ScenarioError(str(s.source), "solver.dt_out", dt, e.allowed)
+        err.transient = True  # another machine (a study's other worker) may have the memory
+        raise err from None
 
 
 def _writable(out: Path, s: Scenario) -> None:
@@ -617,13 +620,15 @@ def _writable(out: Path, s: Scenario) -> None:
         with tempfile.NamedTemporaryFile(dir=out, prefix=".clearance-probe-"):
             pass
     except OSError as e:
-        raise ScenarioError(
+        err = ScenarioError(
             str(s.source),
             "output.folder",
             str(out),
             f"cannot write results there ({e.strerror or e}); choose another folder "
             "([output] folder or --out)",
-        ) from None
+        )
+        err.transient = True  # a full or unreachable disk may recover: a study retries it
+        raise err from None
 
 
 class StageTimer(dict):

@@ -76,11 +76,16 @@ def plausibility(
         c, r = float(info.c), float(info.ball_radius)
         um = f"{depth * 1e6:.4g} um"
         if depth > penetration_implausible * c or depth > radius_implausible * r:
+            than = (
+                f"{depth / c:.3g} times the clearance c = {c * 1e6:.4g} um"
+                if depth > penetration_implausible * c
+                else f"{depth / r:.3g} of the inner radius {r * 1e3:.4g} mm"
+            )
             out.add(
                 IMPLAUSIBLE,
-                f"{name}: the ball sank {um} into its socket wall, {depth / c:.3g} times the "
-                f"clearance c = {c * 1e6:.4g} um: far beyond any elastic contact (is the "
-                "contact stiffness too small, or the step too large?)",
+                f"{name}: penetration {um} into the outer part's wall, {than}: far beyond "
+                "any elastic contact (is the contact stiffness too small, or the step too "
+                "large?)",
             )
         elif depth > penetration_warning * c:
             out.add(
@@ -89,7 +94,7 @@ def plausibility(
                 "laws assume deformations small against it (check the stiffness)",
             )
         if result.t.size and not len(result.impacts(name)) and depth <= 0.0:
-            out.add(WARNING, f"{name}: never touched its socket (the clearance had no effect)")
+            out.add(WARNING, f"{name}: never in contact (the clearance had no effect)")
     if result.t.size:
         e = result.energy
         scale = float(np.max(np.abs(e["kinetic"]) + np.abs(e["potential"])))

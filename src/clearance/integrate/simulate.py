@@ -161,8 +161,12 @@ def simulate(
     message.
     """
     c = system if isinstance(system, Compiled) else compile_mechanism(system)
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise ModelError("simulate", "method", method, f"allowed: {', '.join(METHODS)}")
+    if not isinstance(solver, str) or solver not in _SOLVERS:
+        raise ModelError("simulate", "solver", solver, f"allowed: {', '.join(_SOLVERS)}")
+    if not _finite(t_start):
+        raise ModelError("simulate", "t_start", t_start, "expected a finite number")
     for name, val, lo in (
         ("t_end", t_end, t_start),
         ("rtol", rtol, 0.0),
@@ -171,33 +175,43 @@ def simulate(
         ("min_step", min_step, 0.0),
         ("projection_tol", projection_tol, 0.0),
     ):
-        if not (_number(val) and np.isfinite(val) and val > lo):
+        if not (_finite(val) and val > lo):
             raise ModelError("simulate", name, val, f"expected a finite number > {lo}")
     # a NaN here used to pass every comparison and burn max_steps before a wrong message
-    if not (_number(first_step) and np.isfinite(first_step) and first_step >= 0.0):
+    if not (_finite(first_step) and first_step >= 0.0):
         raise ModelError("simulate", "first_step", first_step, "expected a finite number >= 0")
     if not (_number(max_step) and max_step > 0.0):  # inf: no cap
         raise ModelError("simulate", "max_step", max_step, "expected a number > 0 (inf allowed)")
     if not (
         isinstance(baumgarte, (tuple, list, np.ndarray))
         and len(baumgarte) == 2
-        and all(_number(x) and np.isfinite(x) and x >= 0.0 for x in baumgarte)
+        and all(_finite(x) and x >= 0.0 for x in baumgarte)
     ):
         raise ModelError(
             "simulate", "baumgarte", baumgarte, "expected (alpha, beta): two finite numbers >= 0"
         )
     for name, val, lo in (("max_steps", max_steps, 1), ("max_events", max_events, 0)):
-        if not (isinstance(val, (int, np.integer)) and not isinstance(val, bool)):
-            raise ModelError("simulate", name, val, f"expected an integer >= {lo}")
-        if not lo <= int(val) < 2**62:
+        # an integral float (max_steps = 1e7) is the integer it names, as before
+        integral = _finite(val) and float(val).is_integer()
+        if not integral or not lo <= int(val) < 2**62:
             raise ModelError("simulate", name, val, f"expected an integer in [{lo}, 2**62)")
+    max_steps, max_events = int(max_steps), int(max_events)
+    if c.nclr and max_events * NLOG * 8 > memory_budget():
+        raise ModelError(
+            "simulate",
+            "max_events",
+            max_events,
+            f"the event log would take {max_events * NLOG * 8 / 2**30:.3g} GiB, above the "
+            "memory budget (half of this machine's memory, or CLEARANCE_MEMORY_BUDGET [GiB])",
+        )
     if t_out is None:
         if dt_out is None:
             t_out = np.linspace(t_start, t_end, 201)
         else:
-            if not (_number(dt_out) and np.isfinite(dt_out) and dt_out > 0):
+            count = (t_end - t_start) / dt_out if _finite(dt_out) and dt_out > 0 else math.nan
+            if not math.isfinite(count):  # (1e-310: the count overflows)
                 raise ModelError("simulate", "dt_out", dt_out, "expected a finite number > 0")
-            n = int(math.floor((t_end - t_start) / dt_out + 1e-9))
+            n = int(math.floor(count + 1e-9))
             check_output_size(c, n + 2, t_end - t_start)  # before np.arange allocates
             t_out = t_start + dt_out * np.arange(n + 1)
             if t_out[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):
@@ -273,11 +287,25 @@ def simulate(
     )
 
 
+def _finite(x: object) -> bool:
+    """A finite real number (not a bool, not a string; an int too large for a float is
+    not finite)."""
+    if not isinstance(x, (int, float, np.integer, np.floating)) or isinstance(x, (bool, np.bool_)):
+        return False
+    try:
+        return math.isfinite(float(x))
+    except OverflowError:
+        return False
+
+
 def _number(x: object) -> bool:
-    """A real number (not a bool, not a string)."""
+    """A real number (not a bool, not a string): infinities included."""
     return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(
         x, (bool, np.bool_)
     )
+
+
+_SOLVERS = ("auto", "schur", "dense", "lstsq")
 
 
 def sample_bytes(c: Compiled) -> int:
@@ -306,21 +334,36 @@ def memory_budget() -> int:
 
     env = os.environ.get("CLEARANCE_MEMORY_BUDGET")
     if env:
-        return int(float(env) * 2**30)
+        try:
+            gib = float(env)
+        except ValueError:
+            gib = math.nan
+        if not (math.isfinite(gib) and gib > 0):
+            raise ModelError(
+                "environment", "CLEARANCE_MEMORY_BUDGET", env, "expected a number of GiB > 0"
+            )
+        return int(gib * 2**30)
     try:
         return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") // 2
     except (ValueError, OSError, AttributeError):
         return 8 * 2**30
 
 
-def check_output_size(c: Compiled, n: int, span: float, field: str = "dt_out") -> None:
+def check_output_size(
+    c: Compiled, n: int, span: float, field: str = "dt_out", *, copies: int = 1
+) -> None:
     """ModelError before anything is allocated when `n` output samples over `span`
-    seconds would not fit in `memory_budget()`: says how much, and the output interval
-    that fits."""
-    need, budget = n * sample_bytes(c), memory_budget()
+    seconds (`copies` times: a scenario run holds two runs and their datasets) would not
+    fit in `memory_budget()`: says how much, and an output interval that fits."""
+    per = copies * sample_bytes(c)
+    need, budget = n * per, memory_budget()
     if need <= budget:
         return
-    fits = span / max(budget // sample_bytes(c) - 1, 1)
+    # n = floor(span / dt) + 2 samples must fit: dt >= span / (budget // per - 2), rounded
+    # up to 2 significant digits so that the printed value fits too
+    fits = span / max(budget // per - 3, 1)
+    scale = 10.0 ** (math.floor(math.log10(fits)) - 1)
+    fits = math.ceil(fits / scale) * scale
     raise ModelError(
         "simulate",
         field,

@@ -34,6 +34,9 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
 
 STEM_BYTES = 120  # UTF-8 bytes of a result file's stem: room for suffixes within 255
 _UNSAFE = frozenset('/\\:*?"<>|')
+_RESERVED = frozenset(
+    ["CON", "PRN", "AUX", "NUL"] + [f"{p}{i}" for p in ("COM", "LPT") for i in range(1, 10)]
+)
 
 
 def output_stem(name: str) -> str:
@@ -45,8 +48,12 @@ def output_stem(name: str) -> str:
     therefore written inside their output folder, under a name the file system accepts."""
     import hashlib
 
-    stem = "".join("_" if ch in _UNSAFE or ord(ch) < 32 else ch for ch in str(name))
+    stem = "".join(
+        "_" if ch in _UNSAFE or ord(ch) < 32 or 127 <= ord(ch) < 160 else ch for ch in str(name)
+    )
     stem = stem.lstrip(". ").rstrip() or "scenario"
+    if stem.split(".")[0].upper() in _RESERVED:  # names Windows keeps for devices
+        stem = f"_{stem}"
     if len(stem.encode()) > STEM_BYTES:
         tag = hashlib.sha256(str(name).encode()).hexdigest()[:8]
         head = stem.encode()[: STEM_BYTES - 9].decode(errors="ignore")

@@ -31,6 +31,7 @@ from clearance.sweep.metrics import METRICS, CaseData, compute_metrics, split_me
 from clearance.sweep.store import (
     FAILED,
     FINISHED,
+    STALE_TMP,
     case_files,
     is_finished,
     read_json,
@@ -83,7 +84,6 @@ def study_table(folder: str | os.PathLike, *, metrics: Sequence[str] | None = No
 
     folder = Path(folder)
     man = read_manifest(folder)
-    remove_temporaries(folder)  # what an interrupted run left half-written
     names = list(metrics) if metrics is not None else list(man["metrics"])
     params = [p["name"] for p in man["parameters"]]
     rows = []
@@ -318,6 +318,7 @@ def collect_study(
 
     folder = Path(folder)
     man = read_manifest(folder)
+    remove_temporaries(folder, older_than=STALE_TMP)  # left half-written by a killed run
     if metrics is not None:
         man = {**man, "metrics": list(metrics)}
     table = study_table(folder, metrics=man["metrics"])

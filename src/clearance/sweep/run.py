@@ -190,6 +190,8 @@ def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callabl
             )
     except INPUT_ERRORS as e:  # the same input fails the same way: no retry
         failed(e, time.perf_counter() - t0)
+        if getattr(e, "transient", False):  # the machine's, not the input's: retried
+            raise
         return lambda: read_json(side) or info
     except Exception as e:
         failed(e, time.perf_counter() - t0)

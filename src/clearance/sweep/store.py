@@ -39,6 +39,7 @@ __all__ = [
     "read_json",
     "read_manifest",
     "remove_temporaries",
+    "STALE_TMP",
     "write_json",
 ]
 
@@ -139,15 +140,23 @@ def prepare_folder(study: Study, folder: Path) -> None:
         tmp.write_text(text, encoding="utf-8")
 
 
-def remove_temporaries(folder: Path) -> int:
+def remove_temporaries(folder: Path, *, older_than: float = 0.0) -> int:
     """Delete the half-written files an interrupted or killed study left in `folder` and
     its cases (the `.<name>.<random>.tmp` files of `atomic_path`; a result file's can be
-    100 MB); return how many. Called when a study starts or resumes and by collect: two
-    studies must not run into one folder at the same time."""
-    n = 0
+    100 MB), those not modified for `older_than` seconds; return how many. A study that
+    starts or resumes removes them all (two studies must not run into one folder at
+    once); collect only those older than `STALE_TMP` (a running study's writes are
+    younger: collect may watch a running study)."""
+    import time
+
+    n, now_ = 0, time.time()
     for d in (Path(folder), Path(folder) / CASES):
         for p in d.glob(".*.tmp"):
             with contextlib.suppress(FileNotFoundError):
-                p.unlink()
-                n += 1
+                if now_ - p.stat().st_mtime >= older_than:
+                    p.unlink()
+                    n += 1
     return n
+
+
+STALE_TMP = 600.0  # [s] a temporary file untouched this long belongs to no running write
