@@ -483,6 +483,22 @@ values = [1e-4, 3e-4]
     assert "ModelError" in sc[bad]["reason"]
 
 
+def test_progress_says_when_a_case_is_implausible(tmp_path):
+    """A study that varies the stiffness over decades: the case whose ball sinks through
+    its socket says IMPLAUSIBLE in its progress line, the others do not."""
+    params = """
+[[parameter]]
+path = "clearance.joints.S_1.normal"
+values = [{ law = "hertz", stiffness = 1.0 }, { law = "hertz", stiffness = 1e11 }]
+"""
+    study = loads_study(study_text(tmp_path / "k", params, metrics=["impacts"]), source="k.toml")
+    lines: list[str] = []
+    rep = run_study(study, scheduler="serial", progress=lines.append)
+    assert rep.complete
+    soft, stiff = (next(x for x in lines if c.id in x and "finished" in x) for c in study.cases)
+    assert "IMPLAUSIBLE: S_1" in soft and "IMPLAUSIBLE" not in stiff
+
+
 def test_half_written_files_are_removed_on_resume_and_collect(serial, tmp_path):
     """A killed run leaves its atomic writes' temporaries (a result file's can be 100 MB):
     resuming the study removes them, collecting it the stale ones; finished cases stay."""

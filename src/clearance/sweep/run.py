@@ -280,6 +280,9 @@ class _Tracker:
     def finished(self, info: Mapping[str, Any], label: str) -> None:
         self.report.finished.append(info["case"])
         ok = "" if info.get("success", True) else f"; run stopped: {info.get('message')}"
+        p = info.get("summary", {}).get("clearance", {}).get("plausibility", {})
+        if p.get("status") == "implausible":  # finished, but not a motion physics allows
+            ok += "; IMPLAUSIBLE: " + "; ".join(p.get("findings", []))
         self._line(f"{info['case']} finished in {info.get('elapsed', 0):.1f} s: {label}{ok}")
 
     def failed(self, cid: str, reason: str, label: str) -> None:
