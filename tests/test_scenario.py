@@ -756,3 +756,23 @@ def test_registry_lists_every_clearance_capable_joint_with_its_kind() -> None:
     }
     expected = {n: kinds[type(j)] for n, j in mech.joints.items() if type(j) in kinds}
     assert dict(MECHANISMS[MechanismType.UPS_UPU].clearance_joints) == expected
+
+
+@pytest.mark.parametrize(
+    "change,field,value",
+    [
+        ({"radial_clearance": 1.0}, "clearance.joints.S_1.radial_clearance", "1.0"),
+        ({"friction": {"law": "lugre", "mu_c": -1.0, "mu_s": 0.05}}, "friction.mu_c", "-1.0"),
+        ({"friction": {"law": "lugre", "mu_c": 0.2}}, "friction.mu_s", "(the default)"),
+    ],
+)
+def test_one_mistake_one_problem(change, field, value) -> None:
+    """A relation refused on one field is reported once: not again through the retry
+    without that field (socket_radius 'give exactly one of ...', mu_s against the default
+    mu_c); a default that breaks a relation with a written value says it is the default."""
+    d = scenario_to_dict(load_scenario(default_scenario_path()))
+    d["clearance"]["joints"]["S_1"].update(change)
+    with pytest.raises(ScenarioError) as info:
+        scenario_from_dict(d, source="one.toml")
+    (p,) = info.value.problems
+    assert p.field.endswith(field) and value in str(p), str(p)

@@ -472,24 +472,32 @@ def _optional(f: dataclasses.Field) -> bool:
 
 def _construct(cls: type, kwargs: dict, path: str, problems: Problems) -> Any:
     """cls(**kwargs); on ModelError report it at path.<field>, drop that field and retry so
-    that further bad fields are reported too. None if anything was wrong. (A dropped field
-    that the class requires ends the retries: it is reported already.)"""
-    kw, failed = dict(kwargs), False
+    that further bad fields are reported too. None if anything was wrong.
+
+    A retry runs without the fields already reported, so what it finds about a field the
+    file does not give, or about a relation to a dropped field (`mu_s >= mu_c = <the
+    default mu_c>`), is a consequence, not a problem of the file: the retries end there.
+    A first problem on a field the file does not give is a default's: it says so."""
+    kw, dropped = dict(kwargs), []
     for _ in range(len(kw) + 1):
         try:
             obj = cls(**kw)
         except TypeError:
-            if failed:  # a required field was dropped above
+            if dropped:  # a required field was dropped above
                 return None
             raise
         except ModelError as e:
-            failed = True
-            problems.add(f"{path}.{e.field}", e.value, e.allowed)
-            if e.field not in kw:
+            given = e.field in kw
+            if dropped and (not given or any(f in str(e.allowed) for f in dropped)):
+                return None
+            value = e.value if given or e.field in kwargs else f"{e.value!r} (the default)"
+            problems.add(f"{path}.{e.field}", value, e.allowed)
+            if not given:
                 return None
             del kw[e.field]
+            dropped.append(e.field)
             continue
-        return None if failed else obj
+        return None if dropped else obj
     return None
 
 
