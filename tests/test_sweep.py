@@ -497,6 +497,11 @@ values = [{ law = "hertz", stiffness = 1.0 }, { law = "hertz", stiffness = 1e11 
     assert rep.complete
     soft, stiff = (next(x for x in lines if c.id in x and "finished" in x) for c in study.cases)
     assert "IMPLAUSIBLE: S_1" in soft and "IMPLAUSIBLE" not in stiff
+    from clearance.sweep.collect import study_table
+
+    table = study_table(study.folder).set_index("case")
+    assert table.loc[study.cases[0].id, "plausibility"] == "implausible"
+    assert table.loc[study.cases[1].id, "plausibility"] in ("ok", "warning")
 
 
 def test_half_written_files_are_removed_on_resume_and_collect(serial, tmp_path):

@@ -77,6 +77,8 @@ def study_table(folder: str | os.PathLike, *, metrics: Sequence[str] | None = No
 
     Columns: case, index, status, one per parameter (its name), one per metric, success
     (finished cases: both runs reached the final time; False: a run stopped early),
+    plausibility (finished cases: "ok", "warning" or "implausible", the worse of the two
+    runs, `clearance.analysis.plausibility`; "" for cases older than the check),
     attempts, reason, worker, result_file. metrics: default the study's; a metric missing from a
     finished case's sidecar (added to the registry later) is computed from its saved files.
     """
@@ -102,6 +104,7 @@ def study_table(folder: str | os.PathLike, *, metrics: Sequence[str] | None = No
         row.update({m: float(vals.get(m, math.nan)) for m in names})
         row.update(
             success=bool(s.get("success", True)) if status == FINISHED else None,
+            plausibility=_plausibility(s) if status == FINISHED else "",
             attempts=int(s.get("attempts", 0)),
             reason=str(s.get("reason", "")) if status != FINISHED else "",
             worker=str(s.get("worker", "")),
@@ -109,6 +112,18 @@ def study_table(folder: str | os.PathLike, *, metrics: Sequence[str] | None = No
         )
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def _plausibility(sidecar: Mapping) -> str:
+    """The worse plausibility status of a finished case's two runs ("" if not recorded)."""
+    states = [
+        sidecar.get("summary", {}).get(run, {}).get("plausibility", {}).get("status")
+        for run in ("ideal", "clearance")
+    ]
+    for state in ("implausible", "warning", "ok"):
+        if state in states:
+            return state
+    return ""
 
 
 def _concat(ids: list[str], parts: list, params: Mapping[str, list]):
