@@ -603,3 +603,19 @@ def test_physical_relations_between_fields_are_checked(make, field, allowed):
     with pytest.raises(ModelError) as err:
         make()
     assert err.value.field == field and allowed in err.value.allowed
+
+
+@pytest.mark.parametrize(
+    "make,field",
+    [
+        (lambda: cl.Hertz(stiffness=10**400), "stiffness"),
+        (lambda: cl.Clearance(ball_radius=10**400, radial_clearance=1e-4), "ball_radius"),
+        (lambda: cl.Constant(10**400), "value"),
+    ],
+)
+def test_an_int_beyond_a_float_is_refused_not_overflowed(make, field):
+    """math.isfinite(10**400) raises OverflowError: every validator shares the one test
+    (model.errors.finite_real) that calls it not finite."""
+    with pytest.raises(ModelError) as err:
+        make()
+    assert err.value.field == field

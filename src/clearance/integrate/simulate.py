@@ -26,21 +26,23 @@ from clearance.kinds import (
 )
 from clearance.layout import CO_DELTA, CO_FN, NCOUT, NLOG, NPOUT, WORK
 from clearance.model.drivers import DistanceDriver
-from clearance.model.errors import ModelError
+from clearance.model.errors import ModelError, finite_real
 from clearance.model.mechanism import Mechanism
 from clearance.store.result import Result
 
+_SOLVER_CODES = {"schur": Solver.SCHUR, "dense": Solver.DENSE, "lstsq": Solver.LSTSQ}
+_SOLVERS = ("auto", *_SOLVER_CODES)
+
 
 def _solver_code(c: Compiled, solver: str, y: np.ndarray, t: float) -> int:
-    names = {"schur": Solver.SCHUR, "dense": Solver.DENSE, "lstsq": Solver.LSTSQ}
     if solver == "auto":
         if c.nrow == 0:
             return int(Solver.SCHUR)
         rep = rank_check(c, t, y)
         return int(Solver.LSTSQ if rep.redundant else Solver.SCHUR)
-    if solver not in names:
+    if solver not in _SOLVER_CODES:
         raise ModelError("simulate", "solver", solver, "allowed: 'auto', 'schur', 'dense', 'lstsq'")
-    return int(names[solver])
+    return int(_SOLVER_CODES[solver])
 
 
 def scipy_rhs(
@@ -165,7 +167,7 @@ def simulate(
         raise ModelError("simulate", "method", method, f"allowed: {', '.join(METHODS)}")
     if not isinstance(solver, str) or solver not in _SOLVERS:
         raise ModelError("simulate", "solver", solver, f"allowed: {', '.join(_SOLVERS)}")
-    if not _finite(t_start):
+    if not finite_real(t_start):
         raise ModelError("simulate", "t_start", t_start, "expected a finite number")
     for name, val, lo in (
         ("t_end", t_end, t_start),
@@ -175,24 +177,24 @@ def simulate(
         ("min_step", min_step, 0.0),
         ("projection_tol", projection_tol, 0.0),
     ):
-        if not (_finite(val) and val > lo):
+        if not (finite_real(val) and val > lo):
             raise ModelError("simulate", name, val, f"expected a finite number > {lo}")
     # a NaN here used to pass every comparison and burn max_steps before a wrong message
-    if not (_finite(first_step) and first_step >= 0.0):
+    if not (finite_real(first_step) and first_step >= 0.0):
         raise ModelError("simulate", "first_step", first_step, "expected a finite number >= 0")
     if not (_number(max_step) and max_step > 0.0):  # inf: no cap
         raise ModelError("simulate", "max_step", max_step, "expected a number > 0 (inf allowed)")
     if not (
         isinstance(baumgarte, (tuple, list, np.ndarray))
         and len(baumgarte) == 2
-        and all(_finite(x) and x >= 0.0 for x in baumgarte)
+        and all(finite_real(x) and x >= 0.0 for x in baumgarte)
     ):
         raise ModelError(
             "simulate", "baumgarte", baumgarte, "expected (alpha, beta): two finite numbers >= 0"
         )
     for name, val, lo in (("max_steps", max_steps, 1), ("max_events", max_events, 0)):
         # an integral float (max_steps = 1e7) is the integer it names, as before
-        integral = _finite(val) and float(val).is_integer()
+        integral = finite_real(val) and float(val).is_integer()
         if not integral or not lo <= int(val) < 2**62:
             raise ModelError("simulate", name, val, f"expected an integer in [{lo}, 2**62)")
     max_steps, max_events = int(max_steps), int(max_events)
@@ -208,7 +210,7 @@ def simulate(
         if dt_out is None:
             t_out = np.linspace(t_start, t_end, 201)
         else:
-            count = (t_end - t_start) / dt_out if _finite(dt_out) and dt_out > 0 else math.nan
+            count = (t_end - t_start) / dt_out if finite_real(dt_out) and dt_out > 0 else math.nan
             if not math.isfinite(count):  # (1e-310: the count overflows)
                 raise ModelError("simulate", "dt_out", dt_out, "expected a finite number > 0")
             n = int(math.floor(count + 1e-9))
@@ -287,25 +289,11 @@ def simulate(
     )
 
 
-def _finite(x: object) -> bool:
-    """A finite real number (not a bool, not a string; an int too large for a float is
-    not finite)."""
-    if not isinstance(x, (int, float, np.integer, np.floating)) or isinstance(x, (bool, np.bool_)):
-        return False
-    try:
-        return math.isfinite(float(x))
-    except OverflowError:
-        return False
-
-
 def _number(x: object) -> bool:
     """A real number (not a bool, not a string): infinities included."""
     return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(
         x, (bool, np.bool_)
     )
-
-
-_SOLVERS = ("auto", "schur", "dense", "lstsq")
 
 
 def sample_bytes(c: Compiled) -> int:

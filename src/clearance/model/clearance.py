@@ -63,7 +63,7 @@ MODELS = ("planar", "spatial")
 def _pos(who: str, field: str, v: object, *, allow_zero: bool = False) -> float:
     try:
         x = float(v)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range)
         raise ModelError(who, field, v, "expected a positive number") from None
     if not np.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
         raise ModelError(who, field, v, "expected a finite number > 0")

@@ -26,14 +26,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import numbers
 import warnings
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from clearance.model.errors import ModelError
+from clearance.model.errors import ModelError, finite_real
 
 # ADAMS IMPACT default stiffness 1e5 N/mm^1.5 in SI (physics.md g.4, RECALLED).
 ADAMS_IMPACT_STIFFNESS = 1e5 * 1e3**1.5  # 3.162e9 N/m^1.5
@@ -54,7 +53,7 @@ def _real(
 ) -> float:
     """x as a float if it is a finite real number in (lo, hi] (or [lo, hi] with lo_open False)."""
     msg = allowed or "expected a finite real number"
-    if isinstance(x, bool) or not isinstance(x, numbers.Real) or not math.isfinite(x):
+    if not finite_real(x):
         raise ModelError(owner, name, x, msg)
     v = float(x)
     if (v <= lo if lo_open else v < lo) or v > hi:

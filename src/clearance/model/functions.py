@@ -20,14 +20,14 @@ import numpy.polynomial.polynomial as npoly
 from scipy.interpolate import BPoly, CubicSpline, PPoly
 
 from clearance.kinds import RAMP_PROFILES, FnKind
-from clearance.model.errors import ModelError
+from clearance.model.errors import ModelError, finite_real
 
 SPLINE_BC_TYPES = ("not-a-knot", "natural", "clamped")
 
 
 def _real(owner: str, name: str, x: object) -> float:
     # bool is an int subclass, but True as a displacement is almost surely a mistake.
-    if isinstance(x, bool) or not isinstance(x, numbers.Real) or not math.isfinite(x):
+    if not finite_real(x):
         raise ModelError(owner, name, x, "expected a finite real number")
     return float(x)
 
