@@ -307,16 +307,17 @@ class ColdCompile:
     nothing but time, as this process then compiles what is missing.
     """
 
-    def __init__(self, clr: Mechanism, method: str) -> None:
+    def __init__(self, cc: Compiled, method: str) -> None:
+        """cc: the compiled clearance model (its layout and kernel types)."""
         import multiprocessing
         import threading
 
         self.child = self.ready = None
+        self.cc = cc
         if _kernels_cached() or threading.active_count() > 1:
             return
         if "fork" not in multiprocessing.get_all_start_methods():
             return
-        self.cc = cc = compile_mechanism(clr)  # only when cold: a warm run needs none
         if not cc.nclr:
             return
         try:
@@ -591,7 +592,7 @@ def _import_writers(figures: bool) -> None:
         import clearance.plot.figures  # noqa: F401  (matplotlib)
 
 
-def _fits_in_memory(clr: Mechanism, info, s: Scenario) -> None:
+def _fits_in_memory(c_clr: Compiled, info, s: Scenario) -> None:
     """ScenarioError (solver.dt_out) when the clearance run's arrays at the scenario's
     output interval would not fit in memory (`integrate.simulate.check_output_size`)."""
     from clearance.integrate.simulate import check_output_size
@@ -602,7 +603,7 @@ def _fits_in_memory(clr: Mechanism, info, s: Scenario) -> None:
         return
     n = int(math.floor(info.t_end / dt + 1e-9)) + 2
     try:  # the two runs, then their datasets: about three clearance runs' arrays
-        check_output_size(compile_mechanism(clr), n, info.t_end, copies=3)
+        check_output_size(c_clr, n, info.t_end, copies=3)
     except ModelError as e:
         err = ScenarioError(str(s.source), "solver.dt_out", dt, e.allowed)
         err.transient = True  # another machine (a study's other worker) may have the memory
@@ -709,8 +710,11 @@ def run_scenario(
         else:
             ik = r_ideal = None
             ideal, clr, info = build_mechanisms(s)
-    _fits_in_memory(clr, info, s)  # before the inverse kinematics, not after
-    cold = ColdCompile(clr, info.simulate_kwargs["method"])
+    # the clearance model's layout, compiled once: the memory estimate and the cold
+    # compile need it before the IK; with reused drives it is also the model that runs
+    c_clr = compile_mechanism(clr)
+    _fits_in_memory(c_clr, info, s)  # before the inverse kinematics, not after
+    cold = ColdCompile(c_clr, info.simulate_kwargs["method"])
     if memo is not None:
         _say(log, "[2/5] inverse kinematics and ideal run: the same as the previous case")
     compiling = contextlib.ExitStack()  # one compile notice over the IK and the kernels
@@ -737,7 +741,7 @@ def run_scenario(
     kw = dict(info.simulate_kwargs)
     with timer("kernels"), compiling:
         ci = compile_mechanism(ideal) if r_ideal is None else r_ideal.compiled
-        cc = compile_mechanism(clr)
+        cc = c_clr if memo is not None else compile_mechanism(clr)
         cold.parent_part()
         cold.join()
         # load (or, on a fresh install, build once) the compiled kernel before the timed
