@@ -338,32 +338,28 @@ def _run_serial(tasks: list[dict], labels: dict, retries: int, tr: _Tracker) -> 
     in a second thread while the next case integrates (one write at a time; the kernels
     and most of the write release the GIL). A case whose write fails runs again, here,
     with the attempts it has left."""
-    import threading
+    from clearance.pipeline import _Background
 
     warm = warm_worker()
     if tr.say is not None:
         tr.say(f"warmed up in {warm:.1f} s (imports, kernels), not counted in the cases")
-    behind: list = []  # [(task, attempts used, thread, box)] of the write in flight
+    behind: list = []  # [(task, attempts used, write)] of the write in flight
 
     def settle(rerun: bool = True) -> None:
         if not behind:
             return
-        t, used, thread, box = behind[0]
-        thread.join()  # (before forgetting it: an interrupt here still finds it below)
+        t, used, write = behind[0]
+        write.join()  # (before forgetting it: an interrupt here still finds it below)
         behind.clear()
-        if "info" in box:
-            tr.done(box["info"], labels[t["case"]])
-        elif rerun and used <= retries:  # that write was an attempt; its sidecar says why
-            _run_one(t, labels, retries - used, tr, defer=False)
-        else:
-            reason = _record_failure(Path(t["folder"]), t, box["error"])
-            tr.failed(t["case"], reason, labels[t["case"]])
-
-    def finish(box: dict, fn: Callable[[], dict]) -> None:
         try:
-            box["info"] = fn()
+            info = write.result()
         except Exception as e:  # recorded in the sidecar by the case
-            box["error"] = e
+            if rerun and used <= retries:  # that write was an attempt: the rest, here
+                _run_one(t, labels, retries - used, tr, defer=False)
+            else:
+                tr.failed(t["case"], _record_failure(Path(t["folder"]), t, e), labels[t["case"]])
+            return
+        tr.done(info, labels[t["case"]])
 
     done = False
     try:
@@ -371,10 +367,7 @@ def _run_serial(tasks: list[dict], labels: dict, retries: int, tr: _Tracker) -> 
             fn, used = _run_one(t, labels, retries, tr, defer=True)
             settle()
             if fn is not None:
-                box: dict = {}
-                thread = threading.Thread(target=finish, args=(box, fn), daemon=True)
-                thread.start()
-                behind.append((t, used, thread, box))
+                behind.append((t, used, _Background(fn, name="clearance-case-write")))
         done = True
     finally:  # an interrupted study still finishes the write in flight, and no more
         settle(rerun=done)
