@@ -21,6 +21,7 @@ from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.integrate.methods import METHODS as _METHODS
 from clearance.integrate.methods import method_loop as _method_loop
 from clearance.integrate.simulate import (
+    Interrupted,
     contact_state,
     initial_state,
     latch_contacts,
@@ -95,6 +96,7 @@ __all__ = [
     "initial_state",
     "scipy_rhs",
     "simulate",
+    "Interrupted",
     "acceleration_analysis",
     "assemble",
     "evaluate_rows",

@@ -205,6 +205,9 @@ class Status(IntEnum):
     STEP_UNDERFLOW = 2
     MAX_STEPS = 3
     NONFINITE = 4
+    INTERRUPTED = 5  # stopped from outside: Ctrl-C, or a stop request (simulate's `stop`)
+    WALL_TIME = 6  # simulate's max_wall_time ran out
+    PAUSED = 7  # internal: a loop handed control back and resumes (state.py); never final
 
 
 STATUS_MESSAGE = {
@@ -215,9 +218,19 @@ STATUS_MESSAGE = {
     "(stiffness, a singular configuration, or an impossible motion)",
     Status.MAX_STEPS: "the maximum number of steps was reached",
     Status.NONFINITE: "the state became non-finite (NaN or inf)",
+    Status.INTERRUPTED: "interrupted",
+    Status.WALL_TIME: "the wall-time limit (max_wall_time) was reached",
+    Status.PAUSED: "paused (internal: the loop resumes)",
 }
 
 # integrator statistics: slots of the `stats` array
 ST_NFEV, ST_NACC, ST_NREJ, ST_NPROJ, ST_HMIN, ST_HMAX, ST_HLAST, ST_NEVT = 0, 1, 2, 3, 4, 5, 6, 7
 NSTATS = 8
 STAT_NAMES = ("nfev", "naccept", "nreject", "nproject", "hmin", "hmax", "hlast", "nevents")
+
+# loop control: slots of `Outputs.ctl` (integrate/state.py). In: the step budget of one
+# call. Kept between calls by a loop that hands control back (Status.PAUSED): whether it
+# has started, and the scalars of its state (the arrays are in `Outputs.mem`).
+CT_BUDGET, CT_STARTED, CT_T, CT_H, CT_FACOLD, CT_REJECTED, CT_NSTEPS = 0, 1, 2, 3, 4, 5, 6
+CT_IOUT, CT_NLOG, CT_SUBSTEP, CT_TPREV = 7, 8, 9, 10
+NCTL = 11

@@ -26,8 +26,9 @@ from clearance.analysis.assembly import assemble, velocity_analysis
 from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
 from clearance.analysis.plausibility import plausibility
 from clearance.compile.compiled import Compiled, compile_mechanism
-from clearance.integrate.simulate import initial_state, latch_contacts, simulate
+from clearance.integrate.simulate import Interrupted, initial_state, latch_contacts, simulate
 from clearance.io.outputs import resolve_outputs
+from clearance.kinds import Status
 from clearance.model.bodies import Marker, quaternion_to_rotation
 from clearance.model.clearance import Clearance
 from clearance.model.drivers import OffsetDriver
@@ -70,6 +71,20 @@ class RunOutput:
             self.timings.update(timer)
             self.timings["total"] = self.timings.get("total", 0.0) + sum(timer.values())
         return self.files
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """Ctrl-C during `run_scenario`'s integration: both runs stopped within ~0.1 s, and
+    what they computed was written (unless the write was deferred); `.run` is the
+    `RunOutput` (status INTERRUPTED). A KeyboardInterrupt: scripts still stop."""
+
+    def __init__(self, run: RunOutput) -> None:
+        super().__init__(f"interrupted at t = {_reached(run.clearance):.6g} s")
+        self.run = run
+
+
+def _reached(r: Result) -> float:
+    return float(r.t[-1]) if r.t.size else 0.0
 
 
 def _say(log: Callable[[str], None] | None, msg: str) -> None:
@@ -173,7 +188,10 @@ def format_summary(s: dict) -> str:
     for label in ("ideal", "clearance"):
         r = s[label]
         p = r.get("plausibility", {"status": "ok", "findings": []})
-        state = "ok" if r["status"] == 0 else "FAILED: " + r["message"]
+        stopped = r["status"] in _STOPPED  # (from outside: not a failure of the run)
+        state = (
+            "ok" if r["status"] == 0 else ("STOPPED: " if stopped else "FAILED: ") + r["message"]
+        )
         if p["status"] == "implausible":  # (a stopped run keeps its reason in front)
             head = "" if r["status"] == 0 else state + "; "
             state = head + "IMPLAUSIBLE: " + "; ".join(p["findings"])
@@ -676,6 +694,7 @@ def run_scenario(
     reuse_ideal: bool = False,
     defer_write: bool = False,
     log: Callable[[str], None] | None = print,
+    progress: Callable[[str, float, float], object] | None = None,
 ) -> RunOutput:
     """Run a scenario (default: the shipped 4UPS-UPU one) and write its outputs.
 
@@ -687,8 +706,13 @@ def run_scenario(
     solver sections: a study varying only clearance parameters); the timings then say
     reused_ideal = 1. defer_write: return without writing anything; `RunOutput.write()`
     writes the files later (a study writes one case while the next one integrates).
-    log: progress messages (None: silent).
+    log: progress messages (None: silent). progress(run, t, t_end): called during the
+    integration, about every 0.1 s of wall time, with run "ideal" or "clearance" and the
+    simulated time reached (from both runs' threads).
     A run that fails part-way keeps and writes what it computed; its status says why.
+    Ctrl-C during the integration stops both runs within ~0.1 s, writes what they computed
+    (without figures) and raises `RunInterrupted` (a KeyboardInterrupt) carrying it;
+    [solver] max_wall_time stops them the same way, with status WALL_TIME, and returns.
     `RunOutput.timings` holds the wall time of each stage (`STAGES`) and the total.
     """
     from clearance.scenario import default_scenario_path
@@ -739,6 +763,22 @@ def run_scenario(
         f"      drive Jacobian: min sigma {ik.min_sigma:.3g}, max condition {ik.max_condition:.3g}",
     )
     kw = dict(info.simulate_kwargs)
+    import threading
+
+    stop = threading.Event()  # Ctrl-C in this thread stops the ideal run's thread too
+
+    def watched(run: str, c: Compiled, **more) -> Result:
+        """simulate(c, t_end, ...) reporting its progress as `run`, also at its end."""
+
+        def tell(t: float) -> None:
+            if progress is not None:
+                progress(run, t, t_end=t_end)
+
+        r = simulate(c, t_end, stop=stop, progress=tell, **more, **kw)
+        if progress is not None:
+            progress(run, _reached(r), t_end=t_end)
+        return r
+
     with timer("kernels"), compiling:
         ci = compile_mechanism(ideal) if r_ideal is None else r_ideal.compiled
         cc = c_clr if memo is not None else compile_mechanism(clr)
@@ -767,7 +807,10 @@ def run_scenario(
     imports = _Background(lambda: _import_writers(draw), name="clearance-imports")
     if r_ideal is None:
         _say(log, "[3/5] ideal mechanism")
-        ideal_run = _Background(lambda: simulate(ci, t_end, **kw), name="clearance-ideal")
+        ideal_run = _Background(
+            lambda: watched("ideal", ci),
+            name="clearance-ideal",
+        )
         start_ref = first[0]
     else:
         timer["ideal"] = 0.0
@@ -779,11 +822,12 @@ def run_scenario(
         is known to succeed: a retried case reuses it)."""
         r = ideal_run.result()
         timer["ideal"] = ideal_run.seconds
-        if key is not None:
+        if key is not None and r.status not in _STOPPED:  # (a stopped run is rerun)
             _IDEAL_MEMO.clear()  # one entry: the memory of one ideal run
             _IDEAL_MEMO[key] = (ik, ideal, r, drives)
         return r
 
+    interrupted = False
     try:
         with timer("clearance"):
             _say(
@@ -796,15 +840,23 @@ def run_scenario(
                 y0 = _start_from(start_ref, cc, ideal, s)
                 if s.clearance.initial == InitialPlacement.REACTION:
                     y0 = place_balls_along_reaction(clr, start_ref, y0, info.clearance_joints)
-            r_clr = simulate(cc, t_end, y0=y0, **kw)
-    except Exception:  # no thread left behind (an interrupt does not wait for it)
+            r_clr = watched("clearance", cc, y0=y0)
+    except Interrupted as e:  # Ctrl-C: keep what was computed, stop the ideal run too
+        stop.set()
+        r_clr, interrupted = e.result, True
+    except BaseException:  # no thread left behind (an interrupt does not wait for it)
+        stop.set()
         if ideal_run is not None:
             with contextlib.suppress(Exception):
                 ideal_done()
         imports.join()
         raise
     if ideal_run is not None:
-        r_ideal = ideal_done()
+        try:
+            r_ideal = ideal_done()
+        except KeyboardInterrupt:  # Ctrl-C while the ideal run finishes: it stops too
+            stop.set()
+            r_ideal, interrupted = ideal_done(), True
         _say(log, f"      ideal: {r_ideal.message}; wall {r_ideal.stats['wall_time']:.3f} s")
     _say(log, f"      {r_clr.message}; wall {r_clr.stats['wall_time']:.3f} s")
     imports.result()
@@ -826,11 +878,11 @@ def run_scenario(
         },
         groups=run_outputs(s, outputs, cc),
         platform=info.platform_body,
-        figures=draw,
+        figures=draw and not interrupted,  # (Ctrl-C: out promptly; `clearance plot` draws)
     )
     files: list = []
     if not defer_write:
-        _say(log, "[5/5] writing results")
+        _say(log, "[5/5] writing results" + (" computed before the interrupt" * interrupted))
         files = write(timer=timer)
     timer["total"] = time.perf_counter() - t_all
     timer["compile"] = timer["kernels"]  # the name before 0.2
@@ -839,7 +891,13 @@ def run_scenario(
     run = RunOutput(s, r_ideal, r_clr, ik, summary, files, dict(timer))
     if defer_write:
         run._write = write
+    if interrupted:
+        raise RunInterrupted(run)
     return run
+
+
+# statuses of a run stopped from outside (Ctrl-C, a stop request, max_wall_time)
+_STOPPED = (Status.INTERRUPTED, Status.WALL_TIME)
 
 
 def write_outputs(

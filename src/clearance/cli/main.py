@@ -147,7 +147,13 @@ def run(
     summary says why)."""
     from clearance.io.outputs import check_outputs
     from clearance.model.errors import KinematicsError, ModelError
-    from clearance.pipeline import STAGES, format_summary, implausible, run_scenario
+    from clearance.pipeline import (
+        STAGES,
+        RunInterrupted,
+        format_summary,
+        implausible,
+        run_scenario,
+    )
     from clearance.scenario import ScenarioError
 
     extra = None
@@ -157,15 +163,32 @@ def run(
         except ValueError as e:
             typer.echo(f"error: --{e}", err=True)
             raise typer.Exit(2) from None
+    live = LiveProgress()
+    interrupted = False
     try:
-        o = run_scenario(file, out_dir=out, figures=figures, outputs=extra, log=typer.echo)
+        o = run_scenario(
+            file, out_dir=out, figures=figures, outputs=extra, log=live.say, progress=live.update
+        )
     except ScenarioError as e:
+        live.clear()
         for line in e.lines():
             typer.echo(line, err=True)
         raise typer.Exit(2) from None
     except (KinematicsError, ModelError) as e:
+        live.clear()
         typer.echo(f"error: {e}", err=True)
         raise typer.Exit(2) from None
+    except RunInterrupted as e:  # the runs stopped; what they computed is written
+        live.clear()
+        o, interrupted = e.run, True
+        typer.echo(f"{e}: the results up to then are written (no figures: `clearance plot`)")
+    except KeyboardInterrupt:  # before or after the integration: nothing half-written
+        live.clear()
+        typer.echo(
+            "interrupted (outside the integration; writes are atomic: no half-written file)",
+            err=True,
+        )
+        raise typer.Exit(130) from None
     typer.echo(f"summary of '{o.scenario.name}':")
     typer.echo(format_summary(o.summary))
     typer.echo(
@@ -181,6 +204,8 @@ def run(
     typer.echo("files:")
     for f in o.files:
         typer.echo(f"  {f}")
+    if interrupted:
+        raise typer.Exit(130)
     if not (o.ideal.success and o.clearance.success):
         raise typer.Exit(1)
     if implausible(o.summary):  # reached the end, but not a motion physics allows
@@ -323,6 +348,60 @@ def collect(
     for f in (o.dataset, o.parquet, o.csv, *o.plots):
         if f is not None:
             typer.echo(str(f))
+
+
+class LiveProgress:
+    """The simulated time of the runs while they integrate: a bar redrawn in place on a
+    terminal (stderr), a line every `every` seconds otherwise (logs of batch jobs).
+    `update(run, t, t_end)` may be called from several threads; `say(msg)` prints a
+    message line (clearing the bar first)."""
+
+    def __init__(self, stream=None, *, every: float = 10.0) -> None:
+        import threading
+
+        self.stream = stream if stream is not None else sys.stderr
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.every = every if not self.tty else 0.2
+        self.lock = threading.Lock()
+        self.reached: dict[str, float] = {}
+        self.t0 = self.last = 0.0
+        self.shown = 0  # characters of the bar on screen
+
+    def update(self, run: str, t: float, t_end: float) -> None:
+        with self.lock:
+            now = time.perf_counter()
+            if not self.reached:  # (a first line: at once on a terminal, else after `every`)
+                self.t0 = now
+                self.last = 0.0 if self.tty else now
+            self.reached[run] = t / t_end if t_end > 0 else 1.0
+            if now - self.last < self.every:
+                return
+            self.last = now
+            parts = ", ".join(f"{k} {100 * f:3.0f} %" for k, f in self.reached.items())
+            slow = min(self.reached.values())
+            el = now - self.t0
+            left = f", ~{el * (1 - slow) / slow:.0f} s left" if 0.01 < slow < 1 else ""
+            text = f"      integrating: {parts} ({el:.0f} s{left})"
+            if self.tty:
+                width = 30
+                fill = int(width * slow)
+                text = f"\r      [{'#' * fill}{'.' * (width - fill)}] " + text.strip()
+                self.stream.write(text.ljust(self.shown))
+                self.shown = len(text)
+            else:
+                self.stream.write(text + "\n")
+            self.stream.flush()
+
+    def clear(self) -> None:
+        with self.lock:
+            if self.shown:
+                self.stream.write("\r" + " " * self.shown + "\r")
+                self.stream.flush()
+                self.shown = 0
+
+    def say(self, msg: str) -> None:
+        self.clear()
+        typer.echo(msg)
 
 
 def _load(path: Path, loader):

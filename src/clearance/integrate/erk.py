@@ -17,6 +17,15 @@ from clearance.dynamics.rhs import rhs
 from clearance.integrate.accept import after_step, sample, start, track_peaks
 from clearance.integrate.events import interpolate, locate_event
 from clearance.kinds import (
+    CT_BUDGET,
+    CT_FACOLD,
+    CT_H,
+    CT_IOUT,
+    CT_NLOG,
+    CT_NSTEPS,
+    CT_REJECTED,
+    CT_STARTED,
+    CT_T,
     ST_HLAST,
     ST_HMAX,
     ST_HMIN,
@@ -31,6 +40,7 @@ _SUCCESS = int(Status.SUCCESS)
 _SINGULAR = int(Status.SINGULAR)
 _STEP_UNDERFLOW = int(Status.STEP_UNDERFLOW)
 _MAX_STEPS = int(Status.MAX_STEPS)
+_PAUSED = int(Status.PAUSED)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -48,7 +58,8 @@ def erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
 
     (A, C, E, P): the pair's tableau (tableau.py layout; A[6] = b, b_7 = 0, so stage 7 is
     f at the new solution, FSAL); E gives the error estimate, P the dense output.
-    Returns (status, outputs written, last time, events).
+    Returns (status, outputs written, last time, events); Status.PAUSED after
+    out.ctl[CT_BUDGET] attempted steps, resumed by the next call (state.py, item 4).
     """
     ny = y0.shape[0]
     nerr = model.y_iw  # the work integrals do not steer the step size
@@ -56,57 +67,73 @@ def erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
     rtol, atol, hmax = opts.rtol, opts.atol, opts.hmax
     stats = out.stats
     t_out = out.t_out
-    K = np.zeros((7, ny))
-    y = y0.copy()
+    ctl = out.ctl
+    y = out.ys  # the state and the stages live in `out` between calls
+    K = out.ks
     ynew = np.empty(ny)
     ytmp = np.empty(ny)
     err = np.empty(ny)
-    t = t0
     t_end = t_out[-1]
     nout = t_out.shape[0]
-    st, iout, nlog = start(model, wk, cs, opts, out, t, y)
-    if st != _SUCCESS:
-        return st, iout, t, nlog
-    st = rhs(t, y, model, wk, cs, alpha, beta, solver, K[0])
-    stats[ST_NFEV] += 1
-    if st != 0:
-        return _SINGULAR, iout, t, nlog
-    track_peaks(wk, t, out.PK, np.bool_(True))
-    # initial step (Hairer & Wanner I, II.4)
-    h = opts.h0
-    if h <= 0.0:
-        d0 = 0.0
-        d1 = 0.0
-        for i in range(nerr):
-            sc = atol + rtol * abs(y[i])
-            d0 += (y[i] / sc) ** 2
-            d1 += (K[0, i] / sc) ** 2
-        d0 = math.sqrt(d0 / nerr)
-        d1 = math.sqrt(d1 / nerr)
-        h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-        h = min(h, hmax, t_end - t0)
-        for i in range(ny):
-            ytmp[i] = y[i] + h * K[0, i]
-        rhs(t + h, ytmp, model, wk, cs, alpha, beta, solver, K[1])
-        stats[ST_NFEV] += 1
-        d2 = 0.0
-        for i in range(nerr):
-            sc = atol + rtol * abs(y[i])
-            d2 += ((K[1, i] - K[0, i]) / sc) ** 2
-        d2 = math.sqrt(d2 / nerr) / h
-        if max(d1, d2) <= 1e-15:
-            h1 = max(1e-6, h * 1e-3)
-        else:
-            h1 = (0.01 / max(d1, d2)) ** 0.2
-        h = min(100 * h, h1, hmax, t_end - t0)
     # PI controller constants (DOPRI5's, used for both pairs): expo1 = 0.2 - 0.75 beta_pi
     beta_pi = 0.04
     expo1 = 0.2 - 0.75 * beta_pi
     safe = 0.9
-    facold = 1e-4
-    rejected = False
-    nsteps = 0
+    if ctl[CT_STARTED] != 0.0:  # resume where the last call handed control back
+        t, h, facold = ctl[CT_T], ctl[CT_H], ctl[CT_FACOLD]
+        rejected = ctl[CT_REJECTED] != 0.0
+        nsteps, iout, nlog = int(ctl[CT_NSTEPS]), int(ctl[CT_IOUT]), np.int64(ctl[CT_NLOG])
+    else:
+        t = t0
+        for i in range(ny):
+            y[i] = y0[i]
+        st, iout, nlog = start(model, wk, cs, opts, out, t, y)
+        if st != _SUCCESS:
+            return st, iout, t, nlog
+        st = rhs(t, y, model, wk, cs, alpha, beta, solver, K[0])
+        stats[ST_NFEV] += 1
+        if st != 0:
+            return _SINGULAR, iout, t, nlog
+        track_peaks(wk, t, out.PK, np.bool_(True))
+        # initial step (Hairer & Wanner I, II.4)
+        h = opts.h0
+        if h <= 0.0:
+            d0 = 0.0
+            d1 = 0.0
+            for i in range(nerr):
+                sc = atol + rtol * abs(y[i])
+                d0 += (y[i] / sc) ** 2
+                d1 += (K[0, i] / sc) ** 2
+            d0 = math.sqrt(d0 / nerr)
+            d1 = math.sqrt(d1 / nerr)
+            h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+            h = min(h, hmax, t_end - t0)
+            for i in range(ny):
+                ytmp[i] = y[i] + h * K[0, i]
+            rhs(t + h, ytmp, model, wk, cs, alpha, beta, solver, K[1])
+            stats[ST_NFEV] += 1
+            d2 = 0.0
+            for i in range(nerr):
+                sc = atol + rtol * abs(y[i])
+                d2 += ((K[1, i] - K[0, i]) / sc) ** 2
+            d2 = math.sqrt(d2 / nerr) / h
+            if max(d1, d2) <= 1e-15:
+                h1 = max(1e-6, h * 1e-3)
+            else:
+                h1 = (0.01 / max(d1, d2)) ** 0.2
+            h = min(100 * h, h1, hmax, t_end - t0)
+        facold = 1e-4
+        rejected = False
+        nsteps = 0
+        ctl[CT_STARTED] = 1.0
+    budget = int(ctl[CT_BUDGET])
+    pause_at = nsteps + budget if budget > 0 else opts.max_steps + 1
     while t < t_end:
+        if nsteps >= pause_at:  # hand control back (the caller resumes this very state)
+            ctl[CT_T], ctl[CT_H], ctl[CT_FACOLD] = t, h, facold
+            ctl[CT_REJECTED] = 1.0 if rejected else 0.0
+            ctl[CT_NSTEPS], ctl[CT_IOUT], ctl[CT_NLOG] = nsteps, iout, nlog
+            return _PAUSED, iout, t, nlog
         if nsteps >= opts.max_steps:
             return _MAX_STEPS, iout, t, nlog
         if h < opts.hmin:

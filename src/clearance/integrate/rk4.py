@@ -15,37 +15,68 @@ from numba import njit
 
 from clearance.dynamics.rhs import rhs
 from clearance.integrate.accept import after_step, record, start, track_peaks
-from clearance.kinds import ST_HMAX, ST_HMIN, ST_NACC, ST_NFEV, Status
+from clearance.kinds import (
+    CT_BUDGET,
+    CT_IOUT,
+    CT_NLOG,
+    CT_STARTED,
+    CT_SUBSTEP,
+    CT_T,
+    CT_TPREV,
+    ST_HMAX,
+    ST_HMIN,
+    ST_NACC,
+    ST_NFEV,
+    Status,
+)
 
 _SUCCESS = int(Status.SUCCESS)
 _SINGULAR = int(Status.SINGULAR)
+_PAUSED = int(Status.PAUSED)
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
 def rk4(model, wk, cs, opts, out, t0, y0):
     """Integrate from (t0, y0) with the fixed step opts.step; peaks (out.PK) at the step
     starts (the last state is covered by the outputs). Returns (status, outputs written,
-    last time, events)."""
+    last time, events); Status.PAUSED after out.ctl[CT_BUDGET] steps, resumed by the next
+    call (state.py, item 4)."""
     alpha, beta, solver, h = opts.alpha, opts.beta, opts.solver, opts.step
     stats = out.stats
     t_out = out.t_out
+    ctl = out.ctl
     ny = y0.shape[0]
-    y = y0.copy()
+    y = out.ys  # the state lives in `out` between calls
     k1 = np.empty(ny)
     k2 = np.empty(ny)
     k3 = np.empty(ny)
     k4 = np.empty(ny)
     ytmp = np.empty(ny)
-    t = t0
     nout = t_out.shape[0]
-    st, iout, nlog = start(model, wk, cs, opts, out, t, y)
-    if st != _SUCCESS:
-        return st, iout, t, nlog
+    if ctl[CT_STARTED] != 0.0:  # resume where the last call handed control back
+        t, tprev, j = ctl[CT_T], ctl[CT_TPREV], int(ctl[CT_SUBSTEP])
+        iout, nlog = int(ctl[CT_IOUT]), np.int64(ctl[CT_NLOG])
+    else:
+        t = t0
+        for i in range(ny):
+            y[i] = y0[i]
+        st, iout, nlog = start(model, wk, cs, opts, out, t, y)
+        if st != _SUCCESS:
+            return st, iout, t, nlog
+        tprev = t  # the start of the current output interval
+        j = 0  # steps done in it
+        ctl[CT_STARTED] = 1.0
+    budget = int(ctl[CT_BUDGET])
+    nsteps = 0
     while iout < nout:
-        dt = t_out[iout] - t
+        dt = t_out[iout] - tprev
         n = max(1, int(math.ceil(dt / h - 1e-9)))
         hs = dt / n
-        for _ in range(n):
+        while j < n:
+            if budget > 0 and nsteps >= budget:  # hand control back (resumed exactly)
+                ctl[CT_T], ctl[CT_TPREV], ctl[CT_SUBSTEP] = t, tprev, j
+                ctl[CT_IOUT], ctl[CT_NLOG] = iout, nlog
+                return _PAUSED, iout, t, nlog
             st = rhs(t, y, model, wk, cs, alpha, beta, solver, k1)
             track_peaks(wk, t, out.PK, stats[ST_NFEV] == 0.0)
             for i in range(ny):
@@ -67,7 +98,11 @@ def rk4(model, wk, cs, opts, out, t0, y0):
             st, _, nlog = after_step(model, wk, cs, opts, out, t, y, k4[:0], nlog, False)
             if st != _SUCCESS:
                 return st, iout, t, nlog
+            j += 1
+            nsteps += 1
         t = t_out[iout]
+        tprev = t
+        j = 0
         out.Y[iout, :] = y
         record(cs, out, iout)
         iout += 1

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import time as _time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -18,6 +19,11 @@ from clearance.integrate.methods import METHODS, method_loop
 from clearance.integrate.post import post_process
 from clearance.integrate.state import Options, Outputs
 from clearance.kinds import (
+    CT_BUDGET,
+    CT_IOUT,
+    CT_NLOG,
+    CT_T,
+    NCTL,
     NSTATS,
     STAT_NAMES,
     STATUS_MESSAGE,
@@ -148,6 +154,9 @@ def simulate(
     y0: np.ndarray | None = None,
     assemble_positions: bool = True,
     max_events: int = 100_000,
+    max_wall_time: float = math.inf,
+    progress: Callable[[float], object] | None = None,
+    stop: object | None = None,
 ) -> Result:
     """Simulate a mechanism from t_start to t_end.
 
@@ -161,6 +170,14 @@ def simulate(
     initial state is assembled and its velocities made consistent unless
     assemble_positions=False. A failure returns the partial result with status != 0 and a
     message.
+
+    The compiled loop hands control back every ~0.1 s of wall time (`SLICE_SECONDS`), so:
+    progress(t) is called then with the simulated time reached; a run still integrating
+    after max_wall_time seconds stops with status WALL_TIME; a run whose `stop` (any
+    object with is_set(), e.g. a threading.Event) is set stops with status INTERRUPTED;
+    Ctrl-C (KeyboardInterrupt) stops it within a slice and raises `Interrupted`, a
+    KeyboardInterrupt carrying the partial result (`.result`). Each stops with the samples
+    computed so far. Slicing does not change the run: the steps are those of one call.
     """
     c = system if isinstance(system, Compiled) else compile_mechanism(system)
     if not isinstance(method, str) or method not in METHODS:
@@ -198,6 +215,16 @@ def simulate(
         if not integral or not lo <= int(val) < 2**62:
             raise ModelError("simulate", name, val, f"expected an integer in [{lo}, 2**62)")
     max_steps, max_events = int(max_steps), int(max_events)
+    if not (_number(max_wall_time) and max_wall_time > 0.0):  # inf: no limit
+        raise ModelError(
+            "simulate", "max_wall_time", max_wall_time, "expected seconds > 0 (inf: no limit)"
+        )
+    if progress is not None and not callable(progress):
+        raise ModelError("simulate", "progress", progress, "expected a function of t, or None")
+    if stop is not None and not callable(getattr(stop, "is_set", None)):
+        raise ModelError(
+            "simulate", "stop", stop, "expected an object with is_set() (threading.Event)"
+        )
     if c.nclr and max_events * NLOG * 8 > memory_budget():
         raise ModelError(
             "simulate",
@@ -250,15 +277,31 @@ def simulate(
     wk = make_work(c.model)
     cs = make_contact_state(c.model)
     wall0 = _time.perf_counter()
-    status, nout, t_reached, nlog = _run_loop(method, c.model, wk, cs, opts, out, t_start, y)
+    (status, nout, t_reached, nlog), ctrl_c = _run_loop(
+        method,
+        c.model,
+        wk,
+        cs,
+        opts,
+        out,
+        t_start,
+        y,
+        deadline=wall0 + max_wall_time,
+        progress=progress,
+        stop=stop,
+    )
     wall = _time.perf_counter() - wall0
     message = STATUS_MESSAGE[Status(status)]
+    if status == Status.WALL_TIME:
+        message = f"the wall-time limit max_wall_time = {max_wall_time:g} s was reached"
+    elif status == Status.INTERRUPTED:
+        message = "interrupted (Ctrl-C)" if ctrl_c else "interrupted (stop requested)"
     if status != 0:
         message += f" (stopped at t = {t_reached:.6g} s; {nout} of {t_out.size} samples kept)"
     log = out.log
     if nlog > log.shape[0]:
         message += f"; the event log kept the first {log.shape[0]} of {nlog} contact events"
-    return _build_result(
+    result = _build_result(
         c,
         t_out[:nout],
         out.Y[:nout],
@@ -285,8 +328,22 @@ def simulate(
             solver_used=Solver(code).name.lower(),
             projection=projection,
             projection_tol=projection_tol,
+            max_wall_time=max_wall_time,
         ),
     )
+    if ctrl_c:
+        raise Interrupted(result)
+    return result
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C during `simulate`: the run stopped within a slice; `.result` holds what it
+    computed (status INTERRUPTED). A KeyboardInterrupt, so a script still stops unless it
+    asks for the partial result."""
+
+    def __init__(self, result: Result) -> None:
+        super().__init__(f"simulate: {result.message}")
+        self.result = result
 
 
 def _number(x: object) -> bool:
@@ -376,14 +433,48 @@ def loop_inputs(c: Compiled, t_out: np.ndarray, *, max_events: int, **opts) -> t
         log=np.zeros((max_events if c.nclr else 0, NLOG)),
         stats=np.zeros(NSTATS),
         PK=np.zeros((c.nclr, 4)),
+        ctl=np.zeros(NCTL),
+        ys=np.zeros(c.ny),
+        ks=np.zeros((7, c.ny)),
     )
     return opts, out
 
 
-def _run_loop(method, model, wk, cs, opts, out, t0, y) -> tuple[int, int, float, int]:
-    """Run the compiled loop of `method` (methods.METHODS)."""
+#: wall time of one call of a compiled loop [s]: how soon Ctrl-C, a stop request,
+#: max_wall_time and the progress callback act (0: the whole run in one call)
+SLICE_SECONDS = 0.1
+
+
+def _run_loop(
+    method, model, wk, cs, opts, out, t0, y, *, deadline=math.inf, progress=None, stop=None
+) -> tuple[tuple[int, int, float, int], bool]:
+    """Run the compiled loop of `method` (methods.METHODS) in slices of ~SLICE_SECONDS of
+    wall time (state.py, item 4): ((status, outputs written, last time, events), whether
+    Ctrl-C stopped it). Between slices: progress(t), the stop request, the deadline."""
     loop = method_loop(method)
-    return loop(model, wk, cs, opts, out, *METHODS[method].data, float(t0), y)
+    data = METHODS[method].data
+    ctl = out.ctl
+    ctl[:] = 0.0
+    ctl[CT_T] = t0
+    budget = 64 if SLICE_SECONDS > 0 else 0  # steps in the first slice; then sized to
+    # the measured time per step (0: no limit)
+    try:
+        while True:
+            ctl[CT_BUDGET] = budget
+            a = _time.perf_counter()
+            res = loop(model, wk, cs, opts, out, *data, float(t0), y)
+            if res[0] != Status.PAUSED:
+                return res, False
+            now = _time.perf_counter()
+            budget = max(1, min(4 * budget, int(budget * SLICE_SECONDS / max(now - a, 1e-9))))
+            if progress is not None:
+                progress(float(res[2]))
+            if stop is not None and stop.is_set():
+                return (int(Status.INTERRUPTED), *res[1:]), False
+            if now > deadline:
+                return (int(Status.WALL_TIME), *res[1:]), False
+    except KeyboardInterrupt:  # between two slices: the state kept at the last pause
+        return (int(Status.INTERRUPTED), int(ctl[CT_IOUT]), ctl[CT_T], int(ctl[CT_NLOG])), True
 
 
 def _build_result(

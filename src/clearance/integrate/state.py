@@ -28,7 +28,14 @@ What every loop must do (clearance.integrate.accept has the shared hooks):
    first-same-as-last stage must then be recomputed); then `accept.track_peaks` with the
    diagnostics of f(t, y);
 3. count in out.stats (kinds.ST_*): rhs evaluations, accepted and rejected steps,
-   projections, steps cut at events, smallest / largest / last step.
+   projections, steps cut at events, smallest / largest / last step;
+4. hand control back: after out.ctl[CT_BUDGET] attempted steps in one call (0: no limit),
+   keep the scalars of the loop's state in out.ctl (kinds.CT_*), its arrays in out.ys/ks,
+   and return Status.PAUSED; called again with the same arguments, continue exactly where
+   it stopped (out.ctl[CT_STARTED] != 0: skip the start, ignore y0). The step sequence
+   does not depend on the budgets: a run in slices is the same run to the last bit
+   (`simulate` calls the loop in slices of ~0.1 s of wall time, so that Ctrl-C, a stop
+   request, max_wall_time and the progress callback act within the run).
 
 A new explicit method is its loop module plus one line in `methods.METHODS`; a 7-stage FSAL
 5(4) pair is only its tableau (`tableau.py`) and the registry line.
@@ -66,3 +73,6 @@ class Outputs(NamedTuple):
     log: np.ndarray  # (max_events, layout.NLOG) contact event log
     stats: np.ndarray  # (kinds.NSTATS,)
     PK: np.ndarray  # (nclr, 4) largest F_N, its time, largest delta, its time
+    ctl: np.ndarray  # (kinds.NCTL,) the step budget of a call, the loop's scalars between calls
+    ys: np.ndarray  # (ny,) the loop's current state, kept between calls
+    ks: np.ndarray  # (7, ny) erk54's stages, kept between calls (FSAL: ks[0] = f(t, ys))

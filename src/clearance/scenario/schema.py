@@ -321,6 +321,9 @@ SOLVER_FIELDS = {
     "projection_tol": Field("positive", 1e-10, doc="projection tolerance"),
     "dt_out": Field("positive", 1e-4, "s", "output interval"),
     "max_events": Field("count", 100_000, doc="contact event log size"),
+    "max_wall_time": Field(
+        "positive_inf", math.inf, "s", "stop a run after this wall time (inf: no limit)"
+    ),
 }
 OUTPUT_FIELDS = {
     "folder": Field("name", "results", doc="output folder"),
@@ -413,6 +416,7 @@ class SolverSpec:
     projection_tol: float = 1e-10
     dt_out: float = 1e-4
     max_events: int = 100_000
+    max_wall_time: float = math.inf
 
     def simulate_kwargs(self) -> dict[str, object]:
         """Keyword arguments of `clearance.simulate` (without t_end)."""
