@@ -460,7 +460,9 @@ def test_cli_check() -> None:
     path = default_scenario_path()
     r = runner.invoke(app, ["check", str(path)])
     assert r.exit_code == 0, r.output
-    assert r.stdout.startswith(f"OK {path}") and len(r.stdout.splitlines()) == 1
+    lines = r.stdout.splitlines()
+    assert lines[0].startswith(f"OK {path}") and len(lines) == 2
+    assert lines[1].startswith(("estimated clearance run: about", "cost estimate: after"))
     assert "4ups-upu" in r.stdout and "S_1, S_3" in r.stdout
     r = runner.invoke(app, ["check", str(default_scenario_path("sps_cu"))])
     assert r.exit_code == 0 and "4sps-cu" in r.stdout and "no builder" not in r.stdout

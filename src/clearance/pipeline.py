@@ -650,6 +650,74 @@ def _writable(out: Path, s: Scenario) -> None:
         raise err from None
 
 
+def estimate_run(c_clr: Compiled, info, *, rhs_seconds: float | None = None):
+    """The clearance run's `clearance.analysis.cost.CostEstimate` (steps, integration
+    time) from the scenario's solver settings and its platform motion."""
+    from clearance.analysis.cost import estimate_cost, motion_scales
+
+    kw = info.simulate_kwargs
+    speed, acc = motion_scales(c_clr, info)
+    return estimate_cost(
+        c_clr,
+        info.t_end,
+        method=kw["method"],
+        rtol=kw["rtol"],
+        step=kw["step"],
+        max_step=kw["max_step"],
+        baumgarte=kw["baumgarte"],
+        acceleration=acc,
+        speed=speed,
+        rhs_seconds=rhs_seconds,
+    )
+
+
+def cost_warnings(est, info) -> list[str]:
+    """Warnings about an estimated run (`estimate_run`): one that takes very long, one
+    that will exceed its step budget."""
+    from clearance.analysis.cost import LONG_RUN_SECONDS, _duration
+
+    kw, out = info.simulate_kwargs, []
+    if est.steps > kw["max_steps"]:
+        out.append(
+            f"the estimated {est.steps:.2g} steps exceed [solver] max_steps = "
+            f"{kw['max_steps']}: the run will likely stop early (set by {est.limit})"
+        )
+    if est.wall > LONG_RUN_SECONDS:
+        out.append(
+            f"this run may take ~{_duration(est.wall)} (set by {est.limit}); check that "
+            "value, or run it anyway: Ctrl-C stops it and writes what it computed, and "
+            "[solver] max_wall_time limits it"
+        )
+    return out
+
+
+class _Pace:
+    """Warns once, from the progress of a run, when its pace so far projects more than
+    `LONG_RUN_SECONDS` of integration (measured after `after` seconds; the estimate before
+    the run can be off by a factor of a few, the pace cannot)."""
+
+    def __init__(self, log: Callable[[str], None] | None, t_end: float, after: float = 5.0):
+        self.log, self.t_end, self.after = log, t_end, after
+        self.t0 = time.perf_counter()
+        self.warned = log is None
+
+    def __call__(self, t: float) -> None:
+        from clearance.analysis.cost import LONG_RUN_SECONDS, _duration
+
+        el = time.perf_counter() - self.t0
+        if self.warned or el < self.after or t <= 0.0:
+            return
+        left = el * (self.t_end - t) / t
+        if el + left > LONG_RUN_SECONDS:
+            self.warned = True
+            _say(
+                self.log,
+                f"      warning: at its pace so far this run needs ~{_duration(left)} more "
+                f"(t = {t:.3g} of {self.t_end:g} s after {el:.0f} s); Ctrl-C stops it and "
+                "writes what it computed, [solver] max_wall_time limits it",
+            )
+
+
 class StageTimer(dict):
     """Wall time per stage [s]: `with timer("write"): ...` adds to timer["write"]."""
 
@@ -667,6 +735,7 @@ STAGES = (
     "build",
     "inverse_kinematics",
     "kernels",
+    "estimate",
     "ideal",
     "clearance",
     "summary",
@@ -768,11 +837,15 @@ def run_scenario(
     stop = threading.Event()  # Ctrl-C in this thread stops the ideal run's thread too
 
     def watched(run: str, c: Compiled, **more) -> Result:
-        """simulate(c, t_end, ...) reporting its progress as `run`, also at its end."""
+        """simulate(c, t_end, ...) reporting its progress as `run`, also at its end; the
+        clearance run says so when its pace projects a very long run (once)."""
+        pace = _Pace(log, t_end) if run == "clearance" else None
 
         def tell(t: float) -> None:
             if progress is not None:
                 progress(run, t, t_end=t_end)
+            if pace is not None:
+                pace(t)
 
         r = simulate(c, t_end, stop=stop, progress=tell, **more, **kw)
         if progress is not None:
@@ -800,6 +873,11 @@ def run_scenario(
     # the clearance run starts from the ideal run's first sample (t = 0), which the short
     # run above computed alike: the two runs are independent and integrate at once, the
     # ideal one in a second thread (the loops and the post-processing release the GIL)
+    with timer("estimate"):  # (after the kernels: everything it calls is compiled)
+        est = estimate_run(cc, info)
+    _say(log, f"      estimated: {est.text()}")
+    for w in cost_warnings(est, info):
+        _say(log, f"      warning: {w}")
     ideal_run = None
     draw = s.output.figures if figures is None else figures
     # the writers' imports (xarray, matplotlib: ~0.5 s) run in a third thread while the

@@ -124,6 +124,30 @@ def check(file: Path = typer.Argument(..., help="scenario file (TOML)")) -> None
         raise typer.Exit(2) from None
     note = "" if s.mechanism.type in BUILDERS else " (validates; no builder in this version)"
     typer.echo(f"OK {file}: {s.summary()}{note}")
+    if s.mechanism.type in BUILDERS:
+        _check_cost(s)
+
+
+def _check_cost(s) -> None:
+    """`check`: the estimated cost of the clearance run and its warnings, when the kernels
+    are compiled already (else it would compile them: the first run's ~1 min)."""
+    from clearance.compile.compiled import compile_mechanism
+    from clearance.model.errors import KinematicsError, ModelError
+    from clearance.pipeline import _kernels_cached, cost_warnings, estimate_run
+    from clearance.scenario import build_mechanisms
+
+    if not _kernels_cached():
+        typer.echo("cost estimate: after the first run has compiled the kernels")
+        return
+    try:
+        _, clr, info = build_mechanisms(s)
+        est = estimate_run(compile_mechanism(clr), info)
+    except (KinematicsError, ModelError) as e:  # `run` reports these with their context
+        typer.echo(f"cost estimate: not available ({e})")
+        return
+    typer.echo(f"estimated clearance run: {est.text()}")
+    for w in cost_warnings(est, info):
+        typer.echo(f"warning: {w}")
 
 
 @app.command()
