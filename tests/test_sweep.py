@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -445,8 +446,14 @@ values = [1e-4, 3e-4, 5e-4]
         killer: {"kind": "exit-once", "marker": str(marker)},
         failing: {"kind": "raise", "message": "injected failure"},
     }
-    rep = run_study(study, scheduler=client, retries=1, progress=False, _fault=fault)
+    lines = []
+    rep = run_study(study, scheduler=client, retries=1, progress=lines.append, _fault=fault)
     assert marker.exists()
+    text = "\n".join(lines)
+    # the progress says what happened: the lost worker, and each case's second attempt
+    assert "left the cluster (died, killed or stopped)" in text, text
+    assert re.search(rf"{killer} finished in \S+ s after 2 attempts", text), text
+    assert f"{failing} FAILED after 2 attempts" in text, text
     assert sorted(rep.finished) == sorted([killer, fine])
     assert list(rep.failed) == [failing] and "injected failure" in rep.failed[failing]
     sc = sidecars(folder)
@@ -643,3 +650,57 @@ def test_study_plots_carry_units_and_mark_failed_and_stopped_cases(serial, tmp_p
     (o,) = [ln for ln in ax.get_lines() if ln.get_label() == "stopped early"]
     metric = man["metrics"][0]
     assert o.get_ydata()[0] == table.loc[1, metric]
+
+
+def test_watch_reports_lost_workers_and_new_attempts_of_running_cases(tmp_path):
+    """Between results, a Dask study says which worker left or joined, and which running
+    case started again and why (its worker died, or its last attempt failed), from the
+    scheduler's worker list and the running cases' sidecars."""
+    from clearance.sweep.run import StudyReport, _Tracker, _Watch
+    from clearance.sweep.store import case_files, write_json
+
+    class Fut:
+        def __init__(self, key):
+            self.key = key
+
+    class Client:
+        workers = {"tcp://a": {}, "tcp://b": {}}
+        running = {"tcp://a": ["k1"], "tcp://b": ["k2"]}
+
+        def scheduler_info(self):
+            return {"workers": dict(self.workers)}
+
+        def processing(self):
+            return dict(self.running)
+
+    tasks = {
+        Fut("k1"): {"case": "c1", "folder": str(tmp_path)},
+        Fut("k2"): {"case": "c2", "folder": str(tmp_path)},
+    }
+    side = {cid: case_files(tmp_path, cid)[1] for cid in ("c1", "c2")}
+    (tmp_path / "cases").mkdir(exist_ok=True)
+    write_json(side["c1"], {"case": "c1", "attempts": 1, "status": "running", "worker": "hostA:1"})
+    write_json(side["c2"], {"case": "c2", "attempts": 1, "status": "running", "worker": "hostB:2"})
+    lines = []
+    tr = _Tracker(StudyReport("s", tmp_path, 2, "test"), lines.append, 2)
+    client = Client()
+    w = _Watch(client, tasks, 2, tr)
+    w.poll()
+    assert lines == []  # first attempts: nothing to say
+    # worker a dies: c1 runs again on c; c2 failed and is retried on b
+    client.workers = {"tcp://b": {}, "tcp://c": {}}
+    write_json(side["c2"], {"case": "c2", "attempts": 1, "status": "failed", "reason": "E: x"})
+    w.poll()
+    client.running = {"tcp://c": ["k1"], "tcp://b": ["k2"]}
+    write_json(side["c1"], {"case": "c1", "attempts": 2, "status": "running", "worker": "hostC:3"})
+    write_json(side["c2"], {"case": "c2", "attempts": 2, "status": "running", "worker": "hostB:2"})
+    w.poll()
+    w.poll()  # nothing new: nothing said twice
+    text = "\n".join(lines)
+    assert len(lines) == 4, text
+    assert "worker tcp://a left the cluster" in lines[0] and "worker tcp://c joined" in lines[1]
+    assert (
+        "c1: attempt 2 of 3 on hostC:3 (attempt 1 on hostA:1 ended without a result: its "
+        "worker died)" in text
+    )
+    assert "c2: attempt 2 of 3 on hostB:2 (attempt 1 failed: E: x)" in text

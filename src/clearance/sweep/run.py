@@ -283,11 +283,79 @@ class _Tracker:
         p = info.get("summary", {}).get("clearance", {}).get("plausibility", {})
         if p.get("status") == "implausible":  # finished, but not a motion physics allows
             ok += "; IMPLAUSIBLE: " + "; ".join(p.get("findings", []))
-        self._line(f"{info['case']} finished in {info.get('elapsed', 0):.1f} s: {label}{ok}")
+        n = int(info.get("attempts", 1))
+        tries = f" after {n} attempts" if n > 1 else ""
+        self._line(f"{info['case']} finished in {info.get('elapsed', 0):.1f} s{tries}: {label}{ok}")
 
-    def failed(self, cid: str, reason: str, label: str) -> None:
+    def failed(self, cid: str, reason: str, label: str, attempts: int = 1) -> None:
         self.report.failed[cid] = reason
-        self._line(f"{cid} FAILED ({label}): {reason}")
+        tries = f" after {attempts} attempts" if attempts > 1 else ""
+        self._line(f"{cid} FAILED{tries} ({label}): {reason}")
+
+    def note(self, msg: str) -> None:
+        """A line about the executor (a lost worker, a retried case)."""
+        self._line(msg)
+
+
+class _Watch:
+    """Watches a Dask study between results: workers leaving or joining the cluster, and
+    the cases a worker runs again (a retry after an exception, or a rerun after its worker
+    died), from the scheduler's worker list and the running cases' sidecars."""
+
+    def __init__(self, client, futures: dict, retries: int, tr: _Tracker) -> None:
+        self.client, self.retries, self.tr = client, retries, tr
+        self.case_of = {f.key: t for f, t in futures.items()}
+        self.seen: dict[str, dict] = {}  # case -> its sidecar as last read
+        self.workers = self._workers()
+
+    def _workers(self) -> set:
+        try:
+            return set(self.client.scheduler_info().get("workers", {}))
+        except Exception:  # a scheduler going away: the futures will say why
+            return set()
+
+    def poll(self) -> None:
+        now = self._workers()
+        for w in sorted(self.workers - now):
+            self.tr.note(
+                f"worker {w} left the cluster (died, killed or stopped); its case is "
+                f"rescheduled (up to {self.retries} extra attempts per case)"
+            )
+        for w in sorted(now - self.workers):
+            self.tr.note(f"worker {w} joined the cluster")
+        self.workers = now
+        try:
+            running = [k for keys in self.client.processing().values() for k in keys]
+        except Exception:
+            return
+        for key in running:
+            t = self.case_of.get(key)
+            if t is not None:
+                self.check(t)
+
+    def check(self, t: dict) -> None:
+        """Compare a running case's sidecar with the last one read: a new attempt?"""
+        cid = t["case"]
+        info = read_json(case_files(Path(t["folder"]), cid)[1]) or {}
+        if info.get("case") != cid:
+            return
+        before = self.seen.get(cid)
+        self.seen[cid] = info
+        attempt = int(info.get("attempts", 1))
+        if attempt < 2 or (before is not None and int(before.get("attempts", 1)) >= attempt):
+            return
+        if before is None:
+            why = "an earlier attempt did not finish"
+        elif before.get("status") == FAILED:
+            why = f"attempt {before.get('attempts')} failed: {before.get('reason', '')}"
+        else:
+            why = (
+                f"attempt {before.get('attempts')} on {before.get('worker', '?')} ended "
+                "without a result: its worker died"
+            )
+        self.tr.note(
+            f"{cid}: attempt {attempt} of {self.retries + 1} on {info.get('worker', '?')} ({why})"
+        )
 
 
 def _record_failure(folder: Path, task: Mapping[str, Any], exc: BaseException) -> str:
@@ -386,7 +454,12 @@ def _run_one(t: dict, labels: dict, retries: int, tr: _Tracker, *, defer: bool):
         except Exception as e:  # recorded in the sidecar by start_case
             if attempt == retries:
                 reason = _record_failure(Path(t["folder"]), t, e)
-                tr.failed(t["case"], reason, labels[t["case"]])
+                tr.failed(t["case"], reason, labels[t["case"]], attempt + 1)
+            else:
+                tr.note(
+                    f"{t['case']}: attempt {attempt + 2} of {retries + 1} (attempt "
+                    f"{attempt + 1} failed: {type(e).__name__}: {e})"
+                )
             continue
         tr.done(info, labels[t["case"]])
         return None, attempt + 1
@@ -423,6 +496,10 @@ def _client(scheduler: Any, n_workers: int | None, retries: int, n_tasks: int):
     return client, [client], f"Dask scheduler {client.scheduler.address}"
 
 
+#: how often a Dask study looks at its workers and running cases between results [s]
+WATCH_SECONDS = 0.5
+
+
 def _run_dask(
     tasks: list[dict],
     labels: dict,
@@ -453,15 +530,24 @@ def _run_dask(
         for t in tasks:
             key = f"clearance-case-{t['case']}-{uuid.uuid4().hex[:8]}"
             futures[client.submit(run_case, t, key=key, retries=retries, pure=False)] = t
-        for fut in as_completed(list(futures)):
-            t = futures[fut]
-            label = labels[t["case"]]
-            if fut.status == "finished":
-                tr.done(fut.result(), label)
-            elif fut.status == "error":
-                exc = fut.exception()
-                tr.failed(t["case"], _record_failure(Path(t["folder"]), t, exc), label)
-            fut.release()
+        watch = _Watch(client, futures, retries, tr)
+        ac = as_completed(list(futures))
+        while not ac.is_empty():
+            if not ac.has_ready():  # between results: lost workers, retried cases
+                time.sleep(WATCH_SECONDS)
+                watch.poll()
+                continue
+            for fut in ac.next_batch(block=False):
+                t = futures[fut]
+                label = labels[t["case"]]
+                if fut.status == "finished":
+                    tr.done(fut.result(), label)
+                elif fut.status == "error":
+                    exc = fut.exception()
+                    reason = _record_failure(Path(t["folder"]), t, exc)
+                    side = read_json(case_files(Path(t["folder"]), t["case"])[1]) or {}
+                    tr.failed(t["case"], reason, label, int(side.get("attempts", 1)))
+                fut.release()
     finally:
         for fut in futures:
             if not fut.done():
