@@ -591,6 +591,16 @@ def test_deprecated_law_entry_points_warn_and_agree():
             "below ball_radius",
         ),
         (
+            lambda: cl.Clearance(ball_radius=0.015, socket_radius=0.015 + 1e-13),
+            "socket_radius",
+            "at least 1.5e-11 m",
+        ),
+        (
+            lambda: cl.RevoluteClearance(journal_radius=0.01, radial_clearance=1e-30),
+            "radial_clearance",
+            "at least 1e-11 m (1e-09 of journal_radius",
+        ),
+        (
             lambda: cl.RevoluteClearance(journal_radius=0.01, radial_clearance=0.02),
             "radial_clearance",
             "below journal_radius",

@@ -70,7 +70,7 @@ def mutants(draw):
         elif (
             how == "scale" and isinstance(box[key], (int, float)) and not isinstance(box[key], bool)
         ):
-            box[key] = box[key] * draw(st.sampled_from([1e-6, 1e-3, -1.0, 1e3, 1e6]))
+            box[key] = box[key] * draw(st.sampled_from([1e-18, 1e-6, 1e-3, -1.0, 1e3, 1e6]))
         elif how == "remove":
             del box[key]
         else:
@@ -97,6 +97,14 @@ def physically_valid(s) -> None:
         e = getattr(n, "restitution", None)
         if e is not None:
             assert 0 < e <= 1
+    # what `check` accepts, `run` builds: the mechanisms, and the contact laws encoded for
+    # the joints' geometry (a 1e-20 m clearance once passed check, then failed the run
+    # with an internal field name: R_socket)
+    from clearance.scenario import BUILDERS, build_mechanisms
+
+    if s.mechanism.type in BUILDERS:
+        _, clr, _ = build_mechanisms(s)
+        cl.compile_mechanism(clr)
 
 
 @settings(

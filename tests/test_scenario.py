@@ -299,6 +299,14 @@ BROKEN = [
         "below ball_radius = 0.015 m",
     ),
     (
+        "clearance below floating point (check passed, the run failed on R_socket)",
+        "radial_clearance = 0.0003",
+        "radial_clearance = 1e-20",
+        "clearance.joints.S_1.radial_clearance",
+        "1e-20",
+        "at least 1.5e-11 m (1e-09 of ball_radius = 0.015 m",
+    ),
+    (
         "invalid TOML syntax",
         "radial_clearance = 0.0003",
         "radial_clearance = 0.3 mm",

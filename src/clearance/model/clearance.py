@@ -80,6 +80,11 @@ def _set(obj: object, name: str, value: object) -> None:
     object.__setattr__(obj, name, value)
 
 
+#: the smallest radial clearance, relative to the inner radius (a sub-nanometre gap on a
+#: centimetre ball; the conformal Hertz radius R_b R_s / c stays finite)
+MIN_RELATIVE_CLEARANCE = 1e-9
+
+
 def _radii(obj: object, who: str, inner: str, outer: str) -> None:
     """Exactly one of the outer radius and radial_clearance; both stored, `given` says which
     the user gave (files write that one back)."""
@@ -109,6 +114,16 @@ def _radii(obj: object, who: str, inner: str, outer: str) -> None:
     else:
         c = _pos(who, "radial_clearance", c_given)  # kept exactly as given
         ro = ri + c
+    if not ro - ri >= MIN_RELATIVE_CLEARANCE * ri:  # (1e-20 m: ro == ri in floating point)
+        field = outer if c_given is None else "radial_clearance"
+        raise ModelError(
+            who,
+            field,
+            ro_given if c_given is None else c_given,
+            f"expected a radial clearance of at least {MIN_RELATIVE_CLEARANCE * ri:.3g} m "
+            f"({MIN_RELATIVE_CLEARANCE:g} of {inner} = {ri} m: below it the two radii are "
+            "the same number; for no clearance, remove the clearance)",
+        )
     if c >= ri:  # a gap as large as the radius: a ball loose in a hollow, not a joint
         field = outer if c_given is None else "radial_clearance"
         raise ModelError(
