@@ -299,6 +299,14 @@ BROKEN = [
         "below ball_radius = 0.015 m",
     ),
     (
+        "a period the inverse kinematics cannot follow (aliased: a platform standing still)",
+        "[solver]",
+        "[trajectory]\nperiod = 0.001\n\n[solver]",
+        "trajectory.period",
+        "0.001",
+        "needs 100001 inverse-kinematics poses (50 per period",
+    ),
+    (
         "clearance below floating point (check passed, the run failed on R_socket)",
         "radial_clearance = 0.0003",
         "radial_clearance = 1e-20",

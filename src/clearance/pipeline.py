@@ -36,7 +36,8 @@ from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
 from clearance.scenario.build import with_clearances
-from clearance.scenario.schema import InitialPlacement, Scenario
+from clearance.scenario.schema import IK_SPACING as _IK_SPACING
+from clearance.scenario.schema import InitialPlacement, Scenario, ik_poses
 from clearance.store.result import Result
 
 # what a cold compile (empty kernel cache) takes on the project machine, for the notice
@@ -44,7 +45,8 @@ COLD_COMPILE_NOTE = "one time, about 50 s on the project machine (2 cores); cach
 
 # RMS comparisons skip the settling of the ball into first contact (mechanisms.md 1.6)
 SKIP_SETTLING = 0.05  # [s] PROPOSED
-IK_SPACING = 0.02  # [s] IK samples; quintic Hermite drives between them (errors ~1e-11 m)
+# IK samples: every IK_SPACING s and >= 50 per trajectory period (scenario.schema.ik_poses)
+IK_SPACING = _IK_SPACING
 
 
 @dataclass
@@ -814,7 +816,7 @@ def run_scenario(
     compiling.enter_context(CompileNotice(log))
     with timer("inverse_kinematics"):
         t_end = info.t_end
-        n_ik = max(2, int(round(t_end / IK_SPACING)) + 1)
+        n_ik = ik_poses(t_end, info.trajectory.period)
         times = np.linspace(0.0, t_end, n_ik)
         if ik is None:
             _say(log, f"[2/5] inverse kinematics: {n_ik} poses over {t_end:g} s")

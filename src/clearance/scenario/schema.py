@@ -684,7 +684,34 @@ def _trajectory(t: dict, kind: MechanismKind | None, problems: Problems) -> Traj
     if len(problems) > n0 or kind is None:
         return None
     period = kw["period"] if kw["period"] is not None else kw["duration"]
+    n = ik_poses(kw["duration"], period)
+    if n > MAX_IK_POSES:  # (aliased, the IK samples would see a platform standing still)
+        problems.add(
+            "trajectory.period",
+            period,
+            f"a period this short over duration = {kw['duration']:g} s needs {n} inverse-"
+            f"kinematics poses ({IK_PER_PERIOD} per period, so that the drives follow the "
+            f"motion); at most {MAX_IK_POSES} (about 40 s of IK): use a period of at least "
+            f"{kw['duration'] * IK_PER_PERIOD / (MAX_IK_POSES - 1):.3g} s or a shorter duration",
+        )
+        return None
     return TrajectorySpec(TrajectoryShape(kw["shape"]), kw["duration"], period, amp)
+
+
+# inverse kinematics samples (run_scenario): every IK_SPACING seconds, and at least
+# IK_PER_PERIOD per period of the trajectory; the drives are quintic Hermite splines
+# through them (errors ~1e-11 m at the shipped 100 per period; ~(2 pi / 50)^6 = 4e-6 of
+# the amplitude at 50). PROPOSED.
+IK_SPACING = 0.02  # [s]
+IK_PER_PERIOD = 50
+MAX_IK_POSES = 10_000  # ~4 ms per pose on the project machine: ~40 s
+
+
+def ik_poses(duration: float, period: float) -> int:
+    """Number of inverse-kinematics poses of a trajectory (`run_scenario`'s IK samples)."""
+    spacing = min(IK_SPACING, period / IK_PER_PERIOD)
+    n = duration / spacing
+    return max(2, int(round(n)) + 1) if n < 1e15 else 10**15
 
 
 def _section(d: Mapping, name: str, problems: Problems, *, required: bool = False) -> dict | None:
