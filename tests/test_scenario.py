@@ -21,6 +21,7 @@ from clearance.mechanisms.ups_upu import (
     ups_upu_ideal,
 )
 from clearance.model.contact_laws import FRICTION_LAWS, NORMAL_LAWS
+from clearance.pipeline import run_scenario
 from clearance.scenario import (
     MECHANISMS,
     InitialPlacement,
@@ -47,6 +48,7 @@ from clearance.scenario.schema import (
     SCENARIO_FIELDS,
     SOLVER_FIELDS,
     TRAJECTORY_FIELDS,
+    ChecksSpec,
 )
 
 DOCS = Path(__file__).parents[1] / "docs" / "scenario-format.md"
@@ -794,3 +796,61 @@ def test_one_mistake_one_problem(change, field, value) -> None:
         scenario_from_dict(d, source="one.toml")
     (p,) = info.value.problems
     assert p.field.endswith(field) and value in str(p), str(p)
+
+
+# --------------------------------------------------------------------------- [checks]
+
+
+def test_checks_section_sets_the_thresholds_and_round_trips(tmp_path: Path) -> None:
+    """[checks] (optional): the plausibility thresholds, the rk4 step limit and the long-run
+    threshold, validated, written back, and reachable by study overrides."""
+    s = loads_scenario(MINIMAL)
+    assert s.checks == ChecksSpec()  # absent: the PROPOSED defaults
+    text = MINIMAL + "\n[checks]\npenetration_implausible = 0.5\nlong_run = inf\n"
+    s = loads_scenario(text)
+    assert s.checks.penetration_implausible == 0.5 and s.checks.long_run == math.inf
+    assert s.checks.plausibility_kwargs()["penetration_implausible"] == 0.5
+    again = loads_scenario(scenario_to_toml(s))
+    assert again == s and "[checks]" in scenario_to_toml(s)
+    s2 = with_overrides(s, {"checks.energy_warning": 1e-4})
+    assert s2.checks.energy_warning == 1e-4
+    for bad, field, allowed in (
+        ("penetration_warning = 2.0", "checks.penetration_warning", "at most penetration_impl"),
+        ("energy_implausible = -1", "checks.energy_implausible", "> 0"),
+        ("radius_implausibel = 0.1", "checks.radius_implausibel", "radius_implausible"),
+    ):
+        with pytest.raises(ScenarioError) as e:
+            loads_scenario(MINIMAL + f"\n[checks]\n{bad}\n", source="c.toml")
+        assert e.value.problems[0].field == field and allowed in str(e.value), str(e.value)
+
+
+def test_rk4_step_limit_comes_from_checks() -> None:
+    rk4 = MINIMAL.replace("rtol = 1e-6", 'method = "rk4"\nstep = 1e-4')
+    with pytest.raises(ScenarioError, match=r"step <= 1e-05 s .*rk4_clearance_step"):
+        loads_scenario(rk4)
+    s = loads_scenario(rk4 + "\n[checks]\nrk4_clearance_step = 1e-4\n")
+    assert s.solver.step == 1e-4
+
+
+def test_checks_thresholds_reach_the_run_summary_and_check(tmp_path: Path) -> None:
+    """The default scenario's 0.014 c of penetration is plausible by default; with
+    penetration_implausible = 1e-3 the same run is implausible (exit code 3); long_run = 1e-6
+    makes `check` warn about the cost."""
+    from clearance.pipeline import implausible
+
+    s = with_overrides(
+        load_scenario(default_scenario_path()),
+        {"trajectory.duration": 0.1, "solver.dt_out": 1e-3, "output.figures": False},
+    )
+    strict = with_overrides(
+        s, {"checks.penetration_implausible": 1e-3, "checks.penetration_warning": 1e-4}
+    )
+    o = run_scenario(strict, out_dir=tmp_path, log=None)
+    assert implausible(o.summary) == ["clearance"]
+    p = o.summary["clearance"]["plausibility"]
+    assert "times the clearance" in p["findings"][0]
+    path = tmp_path / "s.toml"
+    text = default_scenario_path().read_text(encoding="utf-8")
+    path.write_text(re.sub(r"^long_run = .*$", "long_run = 1e-6", text, flags=re.M))
+    r = CliRunner().invoke(app, ["check", str(path)])
+    assert r.exit_code == 0 and "warning: this run may take" in r.output, r.output

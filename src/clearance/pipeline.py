@@ -106,14 +106,23 @@ def _platform_channels(r: Result, body: str) -> dict[str, np.ndarray]:
     }
 
 
-def summarize(ideal: Result, clr: Result, platform: str, *, skip: float = SKIP_SETTLING) -> dict:
+def summarize(
+    ideal: Result,
+    clr: Result,
+    platform: str,
+    *,
+    skip: float = SKIP_SETTLING,
+    thresholds: dict | None = None,
+) -> dict:
     """Scalar summary of a scenario run (all SI units).
 
     Per clearance joint: peak contact force (and its time) and max penetration over the
     integration steps, RMS contact force over the samples, impacts. Platform: RMS
     deviation of position, velocity, acceleration (linear and angular) of the clearance run
     from the ideal run over the common samples after `skip` seconds. Energy residual
-    (relative to the energy scale), wall time and real-time factor of both runs.
+    (relative to the energy scale), wall time and real-time factor of both runs, and their
+    plausibility (`thresholds`: its keyword arguments, e.g. a scenario's
+    `checks.plausibility_kwargs()`).
     """
     out: dict = {"joints": {}, "deviation_rms": {}}
     n = min(ideal.t.size, clr.t.size)
@@ -154,7 +163,7 @@ def summarize(ideal: Result, clr: Result, platform: str, *, skip: float = SKIP_S
             "real_time_factor": sim_time / wall if wall > 0 else math.inf,
             "steps": r.stats["naccept"],
             "rhs_evaluations": r.stats["nfev"],
-            "plausibility": plausibility(r).as_dict(),
+            "plausibility": plausibility(r, **(thresholds or {})).as_dict(),
         }
     return out
 
@@ -673,18 +682,20 @@ def estimate_run(c_clr: Compiled, info, *, rhs_seconds: float | None = None):
     )
 
 
-def cost_warnings(est, info) -> list[str]:
-    """Warnings about an estimated run (`estimate_run`): one that takes very long, one
+def cost_warnings(est, info, long_run: float | None = None) -> list[str]:
+    """Warnings about an estimated run (`estimate_run`): one that takes longer than
+    `long_run` seconds (default: `LONG_RUN_SECONDS`; a scenario's [checks] long_run), one
     that will exceed its step budget."""
     from clearance.analysis.cost import LONG_RUN_SECONDS, _duration
 
+    long_run = LONG_RUN_SECONDS if long_run is None else long_run
     kw, out = info.simulate_kwargs, []
     if est.steps > kw["max_steps"]:
         out.append(
             f"the estimated {est.steps:.2g} steps exceed [solver] max_steps = "
             f"{kw['max_steps']}: the run will likely stop early (set by {est.limit})"
         )
-    if est.wall > LONG_RUN_SECONDS:
+    if est.wall > long_run:
         out.append(
             f"this run may take ~{_duration(est.wall)} (set by {est.limit}); check that "
             "value, or run it anyway: Ctrl-C stops it and writes what it computed, and "
@@ -695,22 +706,31 @@ def cost_warnings(est, info) -> list[str]:
 
 class _Pace:
     """Warns once, from the progress of a run, when its pace so far projects more than
-    `LONG_RUN_SECONDS` of integration (measured after `after` seconds; the estimate before
-    the run can be off by a factor of a few, the pace cannot)."""
+    `long_run` seconds of integration (default `LONG_RUN_SECONDS`; judged after `after`
+    seconds; the estimate before the run can be off by a factor of a few, the pace cannot)."""
 
-    def __init__(self, log: Callable[[str], None] | None, t_end: float, after: float = 5.0):
+    def __init__(
+        self,
+        log: Callable[[str], None] | None,
+        t_end: float,
+        after: float = 5.0,
+        long_run: float | None = None,
+    ):
+        from clearance.analysis.cost import LONG_RUN_SECONDS
+
         self.log, self.t_end, self.after = log, t_end, after
+        self.long_run = LONG_RUN_SECONDS if long_run is None else long_run
         self.t0 = time.perf_counter()
         self.warned = log is None
 
     def __call__(self, t: float) -> None:
-        from clearance.analysis.cost import LONG_RUN_SECONDS, _duration
+        from clearance.analysis.cost import _duration
 
         el = time.perf_counter() - self.t0
         if self.warned or el < self.after or t <= 0.0:
             return
         left = el * (self.t_end - t) / t
-        if el + left > LONG_RUN_SECONDS:
+        if el + left > self.long_run:
             self.warned = True
             _say(
                 self.log,
@@ -841,7 +861,7 @@ def run_scenario(
     def watched(run: str, c: Compiled, **more) -> Result:
         """simulate(c, t_end, ...) reporting its progress as `run`, also at its end; the
         clearance run says so when its pace projects a very long run (once)."""
-        pace = _Pace(log, t_end) if run == "clearance" else None
+        pace = _Pace(log, t_end, long_run=s.checks.long_run) if run == "clearance" else None
 
         def tell(t: float) -> None:
             if progress is not None:
@@ -878,7 +898,7 @@ def run_scenario(
     with timer("estimate"):  # (after the kernels: everything it calls is compiled)
         est = estimate_run(cc, info)
     _say(log, f"      estimated: {est.text()}")
-    for w in cost_warnings(est, info):
+    for w in cost_warnings(est, info, s.checks.long_run):
         _say(log, f"      warning: {w}")
     ideal_run = None
     draw = s.output.figures if figures is None else figures
@@ -942,7 +962,9 @@ def run_scenario(
     imports.result()
     with timer("summary"):
         r_ideal, r_clr = (_with_lumped_actuator_forces(r, s) for r in (r_ideal, r_clr))
-        summary = summarize(r_ideal, r_clr, info.platform_body)
+        summary = summarize(
+            r_ideal, r_clr, info.platform_body, thresholds=s.checks.plausibility_kwargs()
+        )
     write = functools.partial(
         write_outputs,
         s,

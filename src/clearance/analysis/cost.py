@@ -31,15 +31,18 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from clearance.compile.compiled import Compiled
 from clearance.kinds import CG_C, PI_CLR, PI_FRIC, PI_LAW, FrictionLaw
+
+if TYPE_CHECKING:
+    from clearance.compile.compiled import Compiled
 
 KAPPA = 30.0  # PROPOSED, calibrated (module docstring)
 STABILITY = 3.3  # real stability boundary of DOPRI5 / Tsit5 (Hairer & Wanner I, IV.2)
-LONG_RUN_SECONDS = 600.0  # PROPOSED: warn above this estimated integration time
+LONG_RUN_SECONDS = 600.0  # PROPOSED: warn above this integration time ([checks] long_run)
 RHS_PER_STEP = {"dopri5": 6.5, "tsit5": 6.5, "rk4": 4.0}  # incl. ~8 % rejected steps
 
 

@@ -146,7 +146,7 @@ def _check_cost(s) -> None:
         typer.echo(f"cost estimate: not available ({e})")
         return
     typer.echo(f"estimated clearance run: {est.text()}")
-    for w in cost_warnings(est, info):
+    for w in cost_warnings(est, info, s.checks.long_run):
         typer.echo(f"warning: {w}")
 
 

@@ -25,6 +25,7 @@ from collections.abc import Mapping
 from clearance.model.contact_laws import law_name
 from clearance.scenario.errors import MISSING, ScenarioError, did_you_mean
 from clearance.scenario.schema import (
+    CHECKS_FIELDS,
     CLEARANCE_FIELDS,
     CLEARANCE_KINDS,
     MATERIAL_FIELDS,
@@ -87,6 +88,7 @@ def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
             "clearance": (*CLEARANCE_FIELDS, "joints"),
             "solver": tuple(SOLVER_FIELDS),
             "output": tuple(OUTPUT_FIELDS),
+            "checks": tuple(CHECKS_FIELDS),
             "mechanism": ("type", *(kind.params.spec() if kind else ())),
         }
         return sections.get(head)
@@ -210,4 +212,5 @@ def with_overrides(s: Scenario, overrides: Mapping[str, object]) -> Scenario:
             problems.append(e)
     if problems:
         raise ScenarioError.from_problems(problems)
-    return scenario_from_dict(d, source=f"{s.source} (overrides)")
+    tag = " (overrides)"  # (once, however often overrides are applied)
+    return scenario_from_dict(d, source=s.source if s.source.endswith(tag) else s.source + tag)

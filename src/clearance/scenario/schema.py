@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
+from clearance.analysis import plausibility as _pl
+from clearance.analysis.cost import LONG_RUN_SECONDS
 from clearance.integrate.methods import METHODS
 from clearance.io.outputs import ALL as ALL_OUTPUTS
 from clearance.io.outputs import OUTPUTS
@@ -57,6 +59,7 @@ __all__ = [
     "InitialPlacement",
     "JointSpec",
     "MechanismKind",
+    "ChecksSpec",
     "MechanismSpec",
     "MechanismType",
     "OutputSpec",
@@ -70,7 +73,7 @@ __all__ = [
 ]
 
 FORMAT_VERSION = 1
-SECTIONS = ("scenario", "mechanism", "trajectory", "clearance", "solver", "output")
+SECTIONS = ("scenario", "mechanism", "trajectory", "clearance", "solver", "output", "checks")
 TOP_KEYS = ("format_version", *SECTIONS)
 AUTO = "auto"  # in a law table: the field's computed value (None in Python)
 
@@ -325,6 +328,34 @@ SOLVER_FIELDS = {
         "positive_inf", math.inf, "s", "stop a run after this wall time (inf: no limit)"
     ),
 }
+# largest fixed step of "rk4" with clearance joints: measured on the shipped scenarios, 1e-5 s
+# reproduces tsit5's penetrations (4.2 / 3.8 um) and 1e-4 s lets the ball sink 3 mm into the
+# socket until the run fails; PROPOSED for other stiffnesses and masses ([checks])
+RK4_CLEARANCE_STEP = 1e-5  # [s]
+
+CHECKS_FIELDS = {
+    "penetration_implausible": Field(
+        "positive", _pl.PENETRATION_IMPLAUSIBLE, doc="implausible: penetration > this x c"
+    ),
+    "penetration_warning": Field(
+        "positive", _pl.PENETRATION_WARNING, doc="warning: penetration > this x c"
+    ),
+    "radius_implausible": Field(
+        "positive", _pl.RADIUS_IMPLAUSIBLE, doc="implausible: penetration > this x the radius"
+    ),
+    "energy_implausible": Field(
+        "positive", _pl.ENERGY_IMPLAUSIBLE, doc="implausible: energy residual > this x scale"
+    ),
+    "energy_warning": Field(
+        "positive", _pl.ENERGY_WARNING, doc="warning: energy residual > this x scale"
+    ),
+    "rk4_clearance_step": Field(
+        "positive", RK4_CLEARANCE_STEP, "s", "largest rk4 step with clearance joints"
+    ),
+    "long_run": Field(
+        "positive_inf", LONG_RUN_SECONDS, "s", "warn above this integration time (inf: never)"
+    ),
+}
 OUTPUT_FIELDS = {
     "folder": Field("name", "results", doc="output folder"),
     "figures": Field("bool", True, doc="write figures"),
@@ -436,6 +467,27 @@ class OutputSpec:
 
 
 @dataclass(frozen=True)
+class ChecksSpec:
+    """Thresholds of the checks around a run (all PROPOSED defaults): the plausibility of
+    its results (`clearance.analysis.plausibility`), the largest rk4 step with clearance
+    joints, and the integration time above which a run is announced as long."""
+
+    penetration_implausible: float = _pl.PENETRATION_IMPLAUSIBLE
+    penetration_warning: float = _pl.PENETRATION_WARNING
+    radius_implausible: float = _pl.RADIUS_IMPLAUSIBLE
+    energy_implausible: float = _pl.ENERGY_IMPLAUSIBLE
+    energy_warning: float = _pl.ENERGY_WARNING
+    rk4_clearance_step: float = RK4_CLEARANCE_STEP
+    long_run: float = LONG_RUN_SECONDS
+
+    def plausibility_kwargs(self) -> dict[str, float]:
+        """Keyword arguments of `clearance.analysis.plausibility.plausibility`."""
+        names = ("penetration_implausible", "penetration_warning", "radius_implausible")
+        names += ("energy_implausible", "energy_warning")
+        return {n: getattr(self, n) for n in names}
+
+
+@dataclass(frozen=True)
 class Scenario:
     """A validated scenario (format version 1). `source`: the file it came from."""
 
@@ -447,6 +499,7 @@ class Scenario:
     output: OutputSpec
     format_version: int = FORMAT_VERSION
     source: str = field(default="<dict>", compare=False)
+    checks: ChecksSpec = field(default_factory=ChecksSpec)
 
     @property
     def name(self) -> str:
@@ -723,24 +776,35 @@ def _section(d: Mapping, name: str, problems: Problems, *, required: bool = Fals
     return table_at(d[name], name, problems)
 
 
-# largest fixed step of "rk4" with clearance joints: measured on the shipped scenarios, 1e-5 s
-# reproduces tsit5's penetrations (4.2 / 3.8 um) and 1e-4 s lets the ball sink 3 mm into the
-# socket until the run fails; PROPOSED for other stiffnesses and masses
-RK4_CLEARANCE_STEP = 1e-5  # [s]
-
-
-def _rk4_with_clearance(solver, clr, given: bool, problems: Problems) -> None:
+def _rk4_with_clearance(solver, clr, given: bool, limit: float, problems: Problems) -> None:
     """rk4 has a fixed step and no contact event location: with clearance joints the step
     must resolve every impact (a contact lasts ~1e-4 s with steel balls)."""
-    if solver.method != "rk4" or not clr.joints or solver.step <= RK4_CLEARANCE_STEP:
+    if solver.method != "rk4" or not clr.joints or solver.step <= limit:
         return
     problems.add(
         "solver.step",
         solver.step if given else f"{solver.step} (the default)",
         f"'rk4' has a fixed step and does not locate contact events: with clearance joints "
-        f"use step <= {RK4_CLEARANCE_STEP:g} s (the shipped scenarios' impacts last ~1e-4 s), "
-        "or method 'tsit5' / 'dopri5' (adaptive, events located)",
+        f"use step <= {limit:g} s (the shipped scenarios' impacts last ~1e-4 s; "
+        "[checks] rk4_clearance_step), or method 'tsit5' / 'dopri5' (adaptive, events located)",
     )
+
+
+def _checks(t: dict, problems: Problems) -> ChecksSpec | None:
+    n0, kw = len(problems), parse_table(t, CHECKS_FIELDS, "checks", problems)
+    if len(problems) > n0:
+        return None
+    for warn, bad in (
+        ("penetration_warning", "penetration_implausible"),
+        ("energy_warning", "energy_implausible"),
+    ):
+        if kw[warn] > kw[bad]:
+            problems.add(
+                f"checks.{warn}",
+                kw[warn],
+                f"expected at most {bad} = {kw[bad]:g} (a warning comes before implausible)",
+            )
+    return ChecksSpec(**kw) if len(problems) == n0 else None
 
 
 def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Scenario:
@@ -777,10 +841,14 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
     if (t := _section(d, "solver", problems)) is not None:
         n0, kw = len(problems), parse_table(t, SOLVER_FIELDS, "solver", problems)
         solver = SolverSpec(**kw) if len(problems) == n0 else None
-    if solver is not None and clr is not None:
-        _rk4_with_clearance(solver, clr, "step" in (t or {}), problems)
+    step_given = "step" in (t or {})
     if (t := _section(d, "output", problems)) is not None:
         n0, kw = len(problems), parse_table(t, OUTPUT_FIELDS, "output", problems)
         output = OutputSpec(**kw) if len(problems) == n0 else None
+    checks = None
+    if (t := _section(d, "checks", problems)) is not None:
+        checks = _checks(t, problems)
+    if solver is not None and clr is not None and checks is not None:
+        _rk4_with_clearance(solver, clr, step_given, checks.rk4_clearance_step, problems)
     problems.raise_if_any()
-    return Scenario(meta, mech, traj, clr, solver, output, FORMAT_VERSION, source)  # type: ignore[arg-type]
+    return Scenario(meta, mech, traj, clr, solver, output, FORMAT_VERSION, source, checks)  # type: ignore[arg-type]

@@ -82,4 +82,5 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
         },
         "solver": fields_of(s.solver),
         "output": fields_of(s.output),
+        "checks": fields_of(s.checks),
     }
