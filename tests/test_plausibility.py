@@ -96,3 +96,44 @@ def test_the_default_scenario_is_plausible(tmp_path):
     for run in ("ideal", "clearance"):
         assert o.summary[run]["plausibility"] == {"status": "ok", "findings": []}
     assert load_results(o.files[0]).attrs["implausible"] == ""
+
+
+def test_a_thrust_face_is_measured_against_the_axial_clearance():
+    """A revolute joint with a 10 um radial and a 1 mm axial gap, its collar pressed onto
+    the bearing's end face by a soft thrust law: 0.68 mm deep is 68 radial clearances but
+    0.68 of the axial gap it is in, a warning, not 'the ball beyond its socket'."""
+    import clearance as cl
+
+    m = cl.Mechanism("collar on a face", gravity=(0.0, -9.81, -4.0))
+    m.add(
+        cl.Body(
+            "rod",
+            0.6,
+            (0.008, 0.0005, 0.008),
+            position=(0.0, -0.2, 0.0),
+            velocity=(0.6, 0.0, 0.0),
+            angular_velocity=(0.0, 0.0, 3.0),
+        ),
+        cl.Marker("pivot_g", "ground"),
+        cl.Marker("pivot_r", "rod", (0.0, 0.2, 0.0)),
+        cl.Revolute(
+            "J",
+            "pivot_g",
+            "pivot_r",
+            clearance=cl.RevoluteClearance(
+                0.01,
+                radial_clearance=1e-5,
+                model="spatial",
+                length=0.02,
+                axial_clearance=1e-3,
+                normal=cl.Hertz(stiffness=3e10),
+                thrust_normal=cl.Hertz(stiffness=1e6),
+            ),
+        ),
+    )
+    r = cl.simulate(m, 0.2, dt_out=1e-3)
+    depth = r.peak_penetration("J")[0]
+    assert r.success and 0.2e-3 < depth < 1e-3  # deep against c, within c_a
+    p = plausibility(r)
+    assert p.status == "warning", p
+    assert "of the axial clearance c_a" in p.findings[0]

@@ -854,3 +854,19 @@ def test_checks_thresholds_reach_the_run_summary_and_check(tmp_path: Path) -> No
     path.write_text(re.sub(r"^long_run = .*$", "long_run = 1e-6", text, flags=re.M))
     r = CliRunner().invoke(app, ["check", str(path)])
     assert r.exit_code == 0 and "warning: this run may take" in r.output, r.output
+
+
+def test_a_material_with_both_fields_wrong_reports_both(tmp_path: Path) -> None:
+    text = MINIMAL.replace(
+        'normal = { law = "flores"',
+        'ball_material = { E = -1.0, nu = 0.7 }\nnormal = { law = "flores"',
+        1,
+    )
+    with pytest.raises(ScenarioError) as e:
+        loads_scenario(text, source="m.toml")
+    fields = [p.field for p in e.value.problems]
+    assert fields == [
+        "clearance.joints.S_1.ball_material.E",
+        "clearance.joints.S_1.ball_material.nu",
+    ], str(e.value)
+    assert "expected -1 < nu <= 0.5" in str(e.value)

@@ -617,6 +617,15 @@ def _material(value: object, path: str, problems: Problems) -> Material | None:
         if key not in t:
             problems.add(f"{path}.{key}", MISSING, "required field is missing (E [Pa], nu [-])")
             return None
+    # each field against valid values of the others: both of a wrong E and nu reported
+    probe, n0 = {"E": STEEL.E, "nu": STEEL.nu}, len(problems)
+    for key in MATERIAL_FIELDS:
+        try:
+            Material(**{**probe, key: t[key]})
+        except ModelError as e:
+            problems.add(f"{path}.{key}", t[key], e.allowed)
+    if len(problems) > n0:
+        return None
     return _construct(Material, {k: t[k] for k in MATERIAL_FIELDS}, path, problems)
 
 
