@@ -435,7 +435,7 @@ def test_warm_worker_is_free_once_a_scenario_ran(monkeypatch, tmp_path):
 
 @pytest.mark.parametrize(
     "name,stem",
-    [("ups_upu", "ups_upu"), ("../../x", "_.._x"), ("a/b:c", "a_b_c"), ("x" * 300, None)],
+    [("ups_upu", "ups_upu"), ("../../x", "_.._x_"), ("a/b:c", "a_b_c_"), ("x" * 300, None)],
 )
 def test_result_files_stay_in_their_folder_under_a_usable_name(tmp_path, name, stem):
     """The scenario name names the files: path separators cannot lead outside the output
@@ -448,9 +448,18 @@ def test_result_files_stay_in_their_folder_under_a_usable_name(tmp_path, name, s
     (nc,) = [f for f in o.files if f.suffix == ".nc"]
     assert nc.parent == out and nc.exists()
     assert len(nc.stem.encode()) <= STEM_BYTES
-    if stem is not None:
-        assert nc.stem == stem
+    if stem is not None:  # a changed name gains a hash of the original: a_b_c_1a2b3c4d
+        assert nc.stem == stem or (nc.stem.startswith(stem) and len(nc.stem) == len(stem) + 8)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["deep"]  # nothing beside
+
+
+def test_names_that_differ_keep_different_files():
+    from clearance.io.files import output_stem
+
+    names = ["a/b", "a:b", "a_b", "a\\b", ".a_b", "x" * 300, "x" * 299 + "y"]
+    stems = [output_stem(n) for n in names]
+    assert len(set(stems)) == len(names), stems
+    assert output_stem("a_b") == "a_b" and output_stem("ups_upu") == "ups_upu"
 
 
 def test_an_unwritable_output_folder_is_refused_before_the_run(tmp_path):
@@ -492,3 +501,22 @@ def test_outputs_beyond_the_memory_budget_are_refused_before_anything_runs(monke
     # the interval the message suggests does fit
     fits = float(err.value.allowed.split("at least ")[1].split(" s")[0])
     assert cl.simulate(c, 1e-3, dt_out=fits, **small).t.size <= n_fit
+
+
+def test_sample_bytes_counts_what_a_result_holds_per_sample():
+    """The memory estimate's bytes per sample (`sample_bytes`) against the arrays a Result
+    really holds per sample (the increment between two run lengths): within 20 %, so that a
+    new per-sample output cannot slip past the estimate."""
+    from clearance.integrate.simulate import sample_bytes
+
+    _, clr, _ = build_mechanisms(short("ups_upu"))
+    c = cl.compile_mechanism(clr)
+
+    def held(r):
+        arrays = [v for v in vars(r).values() if isinstance(v, np.ndarray)]
+        arrays += [x for v in vars(r).values() if isinstance(v, dict) for x in v.values()]
+        return sum(a.nbytes for a in arrays if isinstance(a, np.ndarray))
+
+    r1, r2 = (cl.simulate(c, t, dt_out=1e-4) for t in (0.005, 0.01))
+    per = (held(r2) - held(r1)) / (r2.t.size - r1.t.size)
+    assert sample_bytes(c) <= per <= 1.2 * sample_bytes(c), (per, sample_bytes(c))

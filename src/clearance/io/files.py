@@ -44,7 +44,8 @@ def output_stem(name: str) -> str:
     is a safe file name (every shipped one is), else path separators, control characters and
     characters that Windows refuses replaced by '_', leading dots and spaces dropped (no
     '..', no hidden file), and at most STEM_BYTES bytes (a longer name keeps its start and
-    gains an 8-character hash of the whole, so two long names stay apart). Results are
+    gains an 8-character hash of the whole, so two long names stay apart; so does a name
+    that had to be changed, so that 'a/b' and 'a_b' do not share a file). Results are
     therefore written inside their output folder, under a name the file system accepts."""
     import hashlib
 
@@ -54,8 +55,10 @@ def output_stem(name: str) -> str:
     stem = stem.lstrip(". ").rstrip() or "scenario"
     if stem.split(".")[0].upper() in _RESERVED:  # names Windows keeps for devices
         stem = f"_{stem}"
+    tag = hashlib.sha256(str(name).encode()).hexdigest()[:8]
     if len(stem.encode()) > STEM_BYTES:
-        tag = hashlib.sha256(str(name).encode()).hexdigest()[:8]
         head = stem.encode()[: STEM_BYTES - 9].decode(errors="ignore")
         stem = f"{head}_{tag}"
+    elif stem != str(name):  # changed: 'a/b' and 'a_b' must not share a file
+        stem = f"{stem}_{tag}"
     return stem
