@@ -60,8 +60,9 @@ def test_warning_threshold_is_a_fraction_of_the_clearance():
 
 
 def test_a_ball_through_its_socket_is_never_ok(tmp_path):
-    """Hertz K = 1 N/m^1.5 (a typo for 1e10): the run reaches its end with the ball deep
-    in the wall; the summary, the file and the exit code say implausible."""
+    """Hertz K = 2e3 N/m^1.5 (a gel, E* ~ 2 kPa: the softest the input allows; K = 1, a
+    typo for 1e10, is refused as input now): the run reaches its end with the ball deep in
+    the wall; the summary, the file and the exit code say implausible."""
     s = load_scenario(default_scenario_path())
     s = with_overrides(
         s,
@@ -69,7 +70,7 @@ def test_a_ball_through_its_socket_is_never_ok(tmp_path):
             "trajectory.duration": 0.05,
             "solver.dt_out": 1e-3,
             "output.figures": False,
-            "clearance.joints.S_1.normal": {"law": "hertz", "stiffness": 1.0},
+            "clearance.joints.S_1.normal": {"law": "hertz", "stiffness": 2e3},
         },
     )
     o = run_scenario(s, out_dir=tmp_path, log=None)
@@ -137,3 +138,17 @@ def test_a_thrust_face_is_measured_against_the_axial_clearance():
     p = plausibility(r)
     assert p.status == "warning", p
     assert "of the axial clearance c_a" in p.findings[0]
+
+
+@pytest.mark.parametrize("k", [1.0, 1e30])
+def test_a_stiffness_no_material_has_is_refused_as_input(k):
+    """K = 1 (the ball sank 26 mm) and K = 1e30 (2.3e10 N looked 'ok') stand for effective
+    moduli of ~1 Pa and ~1e30 Pa: refused before any run, naming the field as written."""
+    from clearance.scenario import ScenarioError
+
+    s = load_scenario(default_scenario_path())
+    with pytest.raises(ScenarioError) as e:
+        with_overrides(s, {"clearance.joints.S_1.normal": {"law": "hertz", "stiffness": k}})
+    p = e.value.problems[0]
+    assert p.field == "clearance.joints.S_1.normal.stiffness", str(e.value)
+    assert "which no material has" in str(e.value) and "(the default)" not in str(e.value)

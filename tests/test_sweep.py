@@ -492,11 +492,12 @@ values = [1e-4, 3e-4]
 
 def test_progress_says_when_a_case_is_implausible(tmp_path):
     """A study that varies the stiffness over decades: the case whose ball sinks through
-    its socket says IMPLAUSIBLE in its progress line, the others do not."""
+    its socket (a gel-soft K = 2e3 N/m^1.5, E* ~ 2 kPa) says IMPLAUSIBLE in its progress
+    line, the others do not."""
     params = """
 [[parameter]]
 path = "clearance.joints.S_1.normal"
-values = [{ law = "hertz", stiffness = 1.0 }, { law = "hertz", stiffness = 1e11 }]
+values = [{ law = "hertz", stiffness = 2e3 }, { law = "hertz", stiffness = 1e11 }]
 """
     study = loads_study(study_text(tmp_path / "k", params, metrics=["impacts"]), source="k.toml")
     lines: list[str] = []

@@ -165,6 +165,37 @@ def _laws(obj: object, who: str, normals: tuple[str, ...] = ("normal",)) -> None
         )
 
 
+# the effective moduli E* a given Hertz stiffness may stand for (PROPOSED): from softer than
+# any solid (gels are ~1e4 Pa) to 2000 times diamond on diamond (E* ~ 5e11 Pa)
+E_STAR_RANGE = (1e3, 1e15)  # [Pa]
+
+
+def _hertz_stiffness_in_range(obj: object, who: str) -> None:
+    """A stiffness given to a power law with Hertz's exponent 1.5 for a ball in a socket
+    stands for an effective modulus E* = 3 K / (4 sqrt(R*)), R* = R_b R_s / c (physics.md
+    g.1, conformal contact): refuse one no material has (K = 1 N/m^1.5, a typo for 1e10,
+    let the ball sink 26 mm into its socket; K = 1e30 made 2.3e10 N look plausible)."""
+    law = obj.normal  # type: ignore[attr-defined]
+    k = getattr(law, "stiffness", None)
+    if k is None or getattr(law, "exponent", None) != 1.5:
+        return
+    rb, rs, c = obj.ball_radius, obj.socket_radius, obj.radial_clearance  # type: ignore[attr-defined]
+    sq = float(np.sqrt(rb * rs / c))
+    lo, hi = (4.0 / 3.0 * e * sq for e in E_STAR_RANGE)
+    if lo <= k <= hi:
+        return
+    raise ModelError(
+        who,
+        "normal.stiffness",
+        k,
+        f"a Hertz stiffness for this ball and socket (conformal radius R* = {sq * sq:.3g} m) "
+        f"means an effective modulus E* = 3 K / (4 sqrt(R*)) = {0.75 * k / sq:.3g} Pa, which "
+        f"no material has: expected K between {lo:.3g} and {hi:.3g} N/m^1.5 (E* from "
+        f"{E_STAR_RANGE[0]:g} to {E_STAR_RANGE[1]:g} Pa), or 'auto' for the materials' Hertz "
+        "stiffness",
+    )
+
+
 def _common(obj: object, who: str, materials: tuple[str, str]) -> None:
     for name in materials:
         if not isinstance(getattr(obj, name), Material):
@@ -229,6 +260,7 @@ class Clearance:
         _laws(self, who)
         _no_line_law(self, who, "a ball in a socket")
         _common(self, who, ("ball_material", "socket_material"))
+        _hertz_stiffness_in_range(self, who)
 
     @property
     def c(self) -> float:

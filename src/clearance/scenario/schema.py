@@ -544,15 +544,16 @@ def _construct(cls: type, kwargs: dict, path: str, problems: Problems) -> Any:
                 return None
             raise
         except ModelError as e:
-            given = e.field in kw
+            top = e.field.split(".")[0]  # (a law's field: "normal.stiffness")
+            given = top in kw
             if dropped and (not given or any(f in str(e.allowed) for f in dropped)):
                 return None
-            value = e.value if given or e.field in kwargs else f"{e.value!r} (the default)"
+            value = e.value if given or top in kwargs else f"{e.value!r} (the default)"
             problems.add(f"{path}.{e.field}", value, e.allowed)
             if not given:
                 return None
-            del kw[e.field]
-            dropped.append(e.field)
+            del kw[top]
+            dropped.append(top)
             continue
         return None if dropped else obj
     return None
