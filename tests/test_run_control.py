@@ -191,9 +191,11 @@ def slow_scenario(tmp_path: Path, extra: str = "") -> Path:
     return p
 
 
-def test_ctrl_c_stops_clearance_run_within_a_second_and_writes_the_partial_result(tmp_path):
-    """`clearance run` interrupted mid-integration (SIGINT, as Ctrl-C sends it): both runs
-    stop within a second, the partial results are written, exit code 130."""
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_ctrl_c_stops_clearance_run_within_a_second_and_writes_the_partial_result(tmp_path, sig):
+    """`clearance run` interrupted mid-integration (SIGINT, as Ctrl-C sends it; SIGTERM, as
+    a batch system's time limit does): both runs stop within a second, the partial results
+    are written, exit code 130."""
     import xarray as xr
 
     out = tmp_path / "out"
@@ -213,7 +215,7 @@ def test_ctrl_c_stops_clearance_run_within_a_second_and_writes_the_partial_resul
                 break
         time.sleep(1.0)  # well inside the integration (minutes of it)
         sent = time.perf_counter()
-        p.send_signal(signal.SIGINT)
+        p.send_signal(sig)
         stopped = None
         for line in p.stdout:
             lines.append(line)

@@ -83,7 +83,13 @@ def run_example(
     t0 = time.perf_counter()
     comp = compile_mechanism(mech)
     typer.echo(comp.describe().splitlines()[0])
-    res = simulate(comp, t_end, dt_out=dt_out, rtol=rtol, atol=atol)
+    from clearance import Interrupted
+
+    interrupted = False
+    try:
+        res = simulate(comp, t_end, dt_out=dt_out, rtol=rtol, atol=atol)
+    except Interrupted as e:  # Ctrl-C: the run stopped; keep what it computed
+        res, interrupted = e.result, True
     wall = time.perf_counter() - t0
     typer.echo(res.summary())
     sim = res.stats["wall_time"]
@@ -97,6 +103,8 @@ def run_example(
         typer.echo(f"peak |actuator force|: {names}")
     path = save_npz(res, out / f"{example}.npz")
     typer.echo(f"result written to {path}")
+    if interrupted:
+        raise typer.Exit(130)
     if not res.success:
         raise typer.Exit(1)
 
@@ -187,8 +195,11 @@ def run(
         except ValueError as e:
             typer.echo(f"error: --{e}", err=True)
             raise typer.Exit(2) from None
+    import signal
+
     live = LiveProgress()
     interrupted = False
+    previous = signal.signal(signal.SIGTERM, _terminate)  # (keeps what was computed)
     try:
         o = run_scenario(
             file, out_dir=out, figures=figures, outputs=extra, log=live.say, progress=live.update
@@ -208,11 +219,10 @@ def run(
         typer.echo(f"{e}: the results up to then are written (no figures: `clearance plot`)")
     except KeyboardInterrupt:  # before or after the integration: nothing half-written
         live.clear()
-        typer.echo(
-            "interrupted (outside the integration; writes are atomic: no half-written file)",
-            err=True,
-        )
+        typer.echo("interrupted (outside the integration; no half-written file)", err=True)
         raise typer.Exit(130) from None
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     typer.echo(f"summary of '{o.scenario.name}':")
     typer.echo(format_summary(o.summary))
     typer.echo(
@@ -323,9 +333,6 @@ def sweep(
         )
         return
 
-    def _terminate(signum, frame):  # SIGTERM (e.g. a batch system) stops like Ctrl-C
-        raise KeyboardInterrupt
-
     previous = signal.signal(signal.SIGTERM, _terminate)
     try:
         report = run_study(
@@ -372,6 +379,10 @@ def collect(
     for f in (o.dataset, o.parquet, o.csv, *o.plots):
         if f is not None:
             typer.echo(str(f))
+
+
+def _terminate(signum, frame):  # SIGTERM (a batch system's time limit) stops like Ctrl-C
+    raise KeyboardInterrupt
 
 
 class LiveProgress:
