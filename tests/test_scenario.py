@@ -309,6 +309,14 @@ BROKEN = [
         "needs 100001 inverse-kinematics poses (50 per period",
     ),
     (
+        "an amplitude that rounds the home pose away (IK blamed a singularity at t = 0)",
+        "[solver]",
+        "[trajectory.amplitude]\nz = 1e300\n\n[solver]",
+        "trajectory.amplitude.z",
+        "1e+300",
+        "expected at most 100 m in magnitude",
+    ),
+    (
         "clearance below floating point (check passed, the run failed on R_socket)",
         "radial_clearance = 0.0003",
         "radial_clearance = 1e-20",

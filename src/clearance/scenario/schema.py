@@ -741,6 +741,13 @@ def _trajectory(t: dict, kind: MechanismKind | None, problems: Problems) -> Traj
                 problems.unknown(path, key, v, units)
             elif isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 problems.add(path, v, f"expected a finite number [{units[key]}]")
+            elif abs(v) > MAX_AMPLITUDE[units[key]]:  # (1e300 m rounded the home pose away)
+                problems.add(
+                    path,
+                    v,
+                    f"expected at most {MAX_AMPLITUDE[units[key]]:g} {units[key]} in magnitude "
+                    "(beyond any mechanism of this kind)",
+                )
             else:
                 amp[key] = float(v)
         amp = {c: amp.get(c, 0.0) for c in units}
@@ -760,6 +767,10 @@ def _trajectory(t: dict, kind: MechanismKind | None, problems: Problems) -> Traj
         return None
     return TrajectorySpec(TrajectoryShape(kw["shape"]), kw["duration"], period, amp)
 
+
+# largest trajectory amplitude by unit (PROPOSED): metres of platform travel and radians of
+# tilt no parallel mechanism of this field comes near
+MAX_AMPLITUDE = {"m": 100.0, "rad": 100.0}
 
 # inverse kinematics samples (run_scenario): every IK_SPACING seconds, and at least
 # IK_PER_PERIOD per period of the trajectory; the drives are quintic Hermite splines
