@@ -144,7 +144,11 @@ def test_ctrl_c_raises_interrupted_with_the_partial_result(comp, monkeypatch):
     with pytest.raises(cl.Interrupted) as e:
         cl.simulate(comp, 0.05, dt_out=1e-3, progress=ctrl_c)
     assert isinstance(e.value, KeyboardInterrupt)
+    import pickle  # (a study's worker sends exceptions back pickled)
+
+    assert pickle.loads(pickle.dumps(e.value)).result.t.size == e.value.result.t.size
     r = e.value.result
+    assert "status: STOPPED: interrupted (Ctrl-C)" in r.summary()
     assert r.status == Status.INTERRUPTED and "Ctrl-C" in r.message
     assert 20 <= r.t.size < full.t.size
     same(r, full, r.t.size)
@@ -285,3 +289,25 @@ def test_live_progress_redraws_on_a_terminal_and_prints_lines_in_logs():
     lines.update("clearance", 0.2, 0.4)
     out = log.getvalue().splitlines()
     assert len(out) == 2 and "clearance  50 %" in out[-1] and "\r" not in log.getvalue()
+
+
+def test_ctrl_c_just_as_the_loop_returns_keeps_what_it_returned(comp, monkeypatch):
+    """Ctrl-C delivered right after the loop's last call returned (before Python stored
+    what it returned): the loop also kept it in its control array, so the run is reported
+    as it ended (complete here), not rebuilt from the last pause."""
+    full = cl.simulate(comp, 0.05, dt_out=1e-3)
+    real = sim.method_loop("dopri5")
+
+    def loop(*args):
+        res = real(*args)
+        if res[0] != Status.PAUSED:
+            raise KeyboardInterrupt  # lands where `res` would have been stored
+        return res
+
+    monkeypatch.setattr(sim, "method_loop", lambda name: loop)
+    monkeypatch.setattr(sim, "SLICE_SECONDS", 1e-4)
+    with pytest.raises(cl.Interrupted) as e:
+        cl.simulate(comp, 0.05, dt_out=1e-3)
+    r = e.value.result
+    assert r.status == Status.SUCCESS and r.t.size == full.t.size
+    same(r, full)

@@ -230,7 +230,10 @@ STAT_NAMES = ("nfev", "naccept", "nreject", "nproject", "hmin", "hmax", "hlast",
 
 # loop control: slots of `Outputs.ctl` (integrate/state.py). In: the step budget of one
 # call. Kept between calls by a loop that hands control back (Status.PAUSED): whether it
-# has started, and the scalars of its state (the arrays are in `Outputs.mem`).
+# has started, and the scalars of its state (the arrays are in `Outputs.ys` / `ks`).
+# Out, on every return: the status, and with t, outputs and events (CT_T, CT_IOUT,
+# CT_NLOG) what the call returned, so that a caller interrupted just as it returned
+# still knows (CT_STATUS is -1 while a call runs).
 CT_BUDGET, CT_STARTED, CT_T, CT_H, CT_FACOLD, CT_REJECTED, CT_NSTEPS = 0, 1, 2, 3, 4, 5, 6
-CT_IOUT, CT_NLOG, CT_SUBSTEP, CT_TPREV = 7, 8, 9, 10
-NCTL = 11
+CT_IOUT, CT_NLOG, CT_SUBSTEP, CT_TPREV, CT_STATUS = 7, 8, 9, 10, 11
+NCTL = 12

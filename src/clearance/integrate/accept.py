@@ -13,7 +13,7 @@ from numba import njit
 from clearance.dynamics.rhs import constraint_rows
 from clearance.dynamics.solve import solve_constrained
 from clearance.integrate.events import update_contacts
-from clearance.kinds import NSTATS, ST_HMIN, ST_NPROJ, Status
+from clearance.kinds import CT_IOUT, CT_NLOG, CT_STATUS, CT_T, NSTATS, ST_HMIN, ST_NPROJ, Status
 from clearance.kinematics.rotations import quat_rotate_body
 from clearance.layout import CO_DELTA, CO_FN
 
@@ -94,6 +94,16 @@ def finite(y):
         if not np.isfinite(y[i]):
             return False
     return True
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def returned(ctl, st, iout, t, nlog):
+    """What a loop call returns, also kept in its control array (kinds.CT_STATUS)."""
+    ctl[CT_STATUS] = st
+    ctl[CT_T] = t
+    ctl[CT_IOUT] = iout
+    ctl[CT_NLOG] = nlog
+    return st, iout, t, nlog
 
 
 @njit(cache=True, inline="always", error_model="numpy")

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from clearance.dynamics.rhs import rhs
-from clearance.integrate.accept import after_step, sample, start, track_peaks
+from clearance.integrate.accept import after_step, returned, sample, start, track_peaks
 from clearance.integrate.events import interpolate, locate_event
 from clearance.kinds import (
     CT_BUDGET,
@@ -54,6 +54,15 @@ def _err_norm(e, y, ynew, n, rtol, atol):
 
 @njit(cache=True, error_model="numpy", nogil=True)
 def erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
+    """Integrate from (t0, y0), writing the samples at out.t_out (contract: state.py);
+    see `_erk54`. Returns (status, outputs written, last time, events), also kept in
+    out.ctl (kinds.CT_STATUS)."""
+    st, iout, t, nlog = _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0)
+    return returned(out.ctl, st, iout, t, nlog)
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
     """Integrate from (t0, y0), writing the samples at out.t_out (contract: state.py).
 
     (A, C, E, P): the pair's tableau (tableau.py layout; A[6] = b, b_7 = 0, so stage 7 is

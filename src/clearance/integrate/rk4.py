@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from clearance.dynamics.rhs import rhs
-from clearance.integrate.accept import after_step, record, start, track_peaks
+from clearance.integrate.accept import after_step, record, returned, start, track_peaks
 from clearance.kinds import (
     CT_BUDGET,
     CT_IOUT,
@@ -37,6 +37,14 @@ _PAUSED = int(Status.PAUSED)
 
 @njit(cache=True, error_model="numpy", nogil=True)
 def rk4(model, wk, cs, opts, out, t0, y0):
+    """Integrate from (t0, y0) with the fixed step opts.step (see `_rk4`). Returns
+    (status, outputs written, last time, events), also kept in out.ctl (kinds.CT_STATUS)."""
+    st, iout, t, nlog = _rk4(model, wk, cs, opts, out, t0, y0)
+    return returned(out.ctl, st, iout, t, nlog)
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def _rk4(model, wk, cs, opts, out, t0, y0):
     """Integrate from (t0, y0) with the fixed step opts.step; peaks (out.PK) at the step
     starts (the last state is covered by the outputs). Returns (status, outputs written,
     last time, events); Status.PAUSED after out.ctl[CT_BUDGET] steps, resumed by the next

@@ -22,6 +22,7 @@ from clearance.kinds import (
     CT_BUDGET,
     CT_IOUT,
     CT_NLOG,
+    CT_STATUS,
     CT_T,
     NCTL,
     NSTATS,
@@ -345,6 +346,9 @@ class Interrupted(KeyboardInterrupt):
         super().__init__(f"simulate: {result.message}")
         self.result = result
 
+    def __reduce__(self):  # (pickles: its argument is the result, not the message)
+        return type(self), (self.result,)
+
 
 def _number(x: object) -> bool:
     """A real number (not a bool, not a string): infinities included."""
@@ -461,6 +465,7 @@ def _run_loop(
     try:
         while True:
             ctl[CT_BUDGET] = budget
+            ctl[CT_STATUS] = -1.0
             a = _time.perf_counter()
             res = loop(model, wk, cs, opts, out, *data, float(t0), y)
             if res[0] != Status.PAUSED:
@@ -473,8 +478,11 @@ def _run_loop(
                 return (int(Status.INTERRUPTED), *res[1:]), False
             if now > deadline:
                 return (int(Status.WALL_TIME), *res[1:]), False
-    except KeyboardInterrupt:  # between two slices: the state kept at the last pause
-        return (int(Status.INTERRUPTED), int(ctl[CT_IOUT]), ctl[CT_T], int(ctl[CT_NLOG])), True
+    except KeyboardInterrupt:  # between two slices: the state kept at the last return
+        st = int(ctl[CT_STATUS])
+        if st in (-1, int(Status.PAUSED)):  # (-1: before the first call returned)
+            st = int(Status.INTERRUPTED)
+        return (st, int(ctl[CT_IOUT]), float(ctl[CT_T]), int(ctl[CT_NLOG])), True
 
 
 def _build_result(

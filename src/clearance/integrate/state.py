@@ -33,7 +33,8 @@ What every loop must do (clearance.integrate.accept has the shared hooks):
    keep the scalars of the loop's state in out.ctl (kinds.CT_*), its arrays in out.ys/ks,
    and return Status.PAUSED; called again with the same arguments, continue exactly where
    it stopped (out.ctl[CT_STARTED] != 0: skip the start, ignore y0). The step sequence
-   does not depend on the budgets: a run in slices is the same run to the last bit
+   does not depend on the budgets: a run in slices is the same run to the last bit; on
+   every return, keep (status, outputs, t, events) in out.ctl too (`accept.returned`)
    (`simulate` calls the loop in slices of ~0.1 s of wall time, so that Ctrl-C, a stop
    request, max_wall_time and the progress callback act within the run).
 

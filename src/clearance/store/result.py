@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from clearance.compile.compiled import Compiled
+from clearance.kinds import Status
 from clearance.layout import CO_DELTA, CO_FN, EV_KIND, EV_POINT, JOINT_COLUMNS, POINT_COLUMNS
 from clearance.model.bodies import rotation_matrices
 
@@ -233,11 +234,18 @@ class Result:
             ev = ev[np.isin(ev[:, EV_POINT], own)]
         return ev
 
+    def _state(self) -> str:
+        """ "ok", "STOPPED" (from outside: Ctrl-C, a stop request, max_wall_time) or
+        "FAILED"."""
+        if self.success:
+            return "ok"
+        return "STOPPED" if self.status in (Status.INTERRUPTED, Status.WALL_TIME) else "FAILED"
+
     def summary(self) -> str:
         st = self.stats
         e = self.energy
         lines = [
-            f"status: {'ok' if self.success else 'FAILED'}: {self.message}",
+            f"status: {self._state()}: {self.message}",
             f"samples {self.t.size}, t = {self.t[0]:.4g} .. {self.t[-1]:.4g} s"
             if self.t.size
             else "no samples",
