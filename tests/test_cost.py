@@ -68,7 +68,7 @@ def test_kelvin_voigt_frequency_and_damping_rate():
 
 def test_lugre_bristle_rate_and_stiffness():
     """z_dot = v - sigma0 |v| z / g(v): decay rate sigma0 v / g(v); the bristles are a
-    spring sigma0 F_N on the body: omega = sqrt(sigma0 m a / m)."""
+    spring sigma0 F_N on the body: omega = sqrt(sigma0 m a / m), and a damper sigma1 F_N."""
     law = LuGre(sigma0=1e6, mu_c=0.1, mu_s=0.15, v_s=1e-3)
     c = ball_in_socket(Hertz(stiffness=1e10), law)
     v, a = 0.02, 9.81
@@ -76,6 +76,8 @@ def test_lugre_bristle_rate_and_stiffness():
     g = 0.1 + 0.05 * math.exp(-((v / 1e-3) ** 2))
     assert s["the LuGre bristles"][0] == pytest.approx(1e6 * v / g, rel=1e-9)
     assert s["the LuGre bristle stiffness"][0] == pytest.approx(math.sqrt(1e6 * a), rel=1e-9)
+    # sticking, F_N sigma1 z_dot is a damper sigma1 F_N on the body: rate sigma1 m a / m
+    assert s["the LuGre bristle damping"][0] == pytest.approx(316.0 * a, rel=1e-9)
 
 
 def test_coulomb_ramp_is_a_viscous_slope():

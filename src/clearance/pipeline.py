@@ -26,6 +26,7 @@ from clearance.analysis.assembly import assemble, velocity_analysis
 from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
 from clearance.analysis.plausibility import plausibility
 from clearance.compile.compiled import Compiled, compile_mechanism
+from clearance.integrate.methods import ADAPTIVE
 from clearance.integrate.simulate import Interrupted, initial_state, latch_contacts, simulate
 from clearance.io.outputs import resolve_outputs
 from clearance.kinds import Status
@@ -81,8 +82,13 @@ class RunInterrupted(KeyboardInterrupt):
     `RunOutput` (status INTERRUPTED). A KeyboardInterrupt: scripts still stop."""
 
     def __init__(self, run: RunOutput) -> None:
-        super().__init__(f"interrupted at t = {_reached(run.clearance):.6g} s")
+        stopped = [r for r in (run.ideal, run.clearance) if r.status in _STOPPED]
+        t = min(_reached(r) for r in stopped or [run.clearance])
+        super().__init__(f"interrupted at t = {t:.6g} s")
         self.run = run
+
+    def __reduce__(self):  # (pickles: its argument is the run, not the message)
+        return type(self), (self.run,)
 
 
 def _reached(r: Result) -> float:
@@ -690,7 +696,7 @@ def cost_warnings(est, info, long_run: float | None = None) -> list[str]:
 
     long_run = LONG_RUN_SECONDS if long_run is None else long_run
     kw, out = info.simulate_kwargs, []
-    if est.steps > kw["max_steps"]:
+    if est.steps > kw["max_steps"] and kw["method"] in ADAPTIVE:  # (rk4 has no step budget)
         out.append(
             f"the estimated {est.steps:.2g} steps exceed [solver] max_steps = "
             f"{kw['max_steps']}: the run will likely stop early (set by {est.limit})"
@@ -865,13 +871,13 @@ def run_scenario(
 
         def tell(t: float) -> None:
             if progress is not None:
-                progress(run, t, t_end=t_end)
+                progress(run, t, t_end)
             if pace is not None:
                 pace(t)
 
         r = simulate(c, t_end, stop=stop, progress=tell, **more, **kw)
         if progress is not None:
-            progress(run, _reached(r), t_end=t_end)
+            progress(run, _reached(r), t_end)
         return r
 
     with timer("kernels"), compiling:
@@ -906,11 +912,6 @@ def run_scenario(
     # runs hold no GIL; joined before anything forks
     imports = _Background(lambda: _import_writers(draw), name="clearance-imports")
     if r_ideal is None:
-        _say(log, "[3/5] ideal mechanism")
-        ideal_run = _Background(
-            lambda: watched("ideal", ci),
-            name="clearance-ideal",
-        )
         start_ref = first[0]
     else:
         timer["ideal"] = 0.0
@@ -928,7 +929,10 @@ def run_scenario(
         return r
 
     interrupted = False
-    try:
+    try:  # (from the ideal thread's start: every exit below stops it)
+        if r_ideal is None:
+            _say(log, "[3/5] ideal mechanism")
+            ideal_run = _Background(lambda: watched("ideal", ci), name="clearance-ideal")
         with timer("clearance"):
             _say(
                 log,

@@ -11,7 +11,8 @@ platform acceleration), and turns the fastest into a step count and a wall time:
   tolerance: h = KAPPA rtol^(1/5) / omega (an error per step ~ (omega h)^5 for the 5(4)
   pairs); KAPPA is calibrated on the shipped 4UPS-UPU scenario (PROPOSED: 30 reproduces its
   7181 steps within 10 %, rtol 1e-6, the balls in contact 93-95 % of the time);
-* a decay of rate lambda (bristles, friction slopes, Baumgarte) only has to stay stable:
+* a decay of rate lambda (bristle decay and damping, friction slopes, Baumgarte) only has
+  to stay stable:
   h = STABILITY / lambda (the 5(4) pairs' real stability boundary, ~3.3);
 * rk4 takes exactly duration / step steps.
 
@@ -138,6 +139,8 @@ def contact_scales(
             sigma0 = fpar[0]
             g = friction_steady(fric, fpar, slip_speed) - fpar[2] * slip_speed
             out.append((f"the LuGre bristles of {pt.name}", sigma0 * slip_speed / g, "decay"))
+            # sticking, the bristle damping F_N sigma1 z_dot acts on the body: F sigma1 / m
+            out.append((f"the LuGre bristle damping of {pt.name}", fpar[1] * force / meff, "decay"))
             out.append(
                 (
                     f"the LuGre bristle stiffness of {pt.name}",

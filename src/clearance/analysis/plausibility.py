@@ -75,28 +75,26 @@ def plausibility(
     for name, info in zip(result.clearance_names, infos, strict=True):
         depth = max(0.0, float(result.peak_penetration(name)[0]))
         c, r = float(info.c), float(info.ball_radius)
-        gap = "the clearance c"
-        if _deepest_at_a_thrust_face(result, name):  # measured against the axial gap
-            c, gap = _axial_clearance(result, name) or c, "the axial clearance c_a"
-        um = f"{depth * 1e6:.4g} um"
-        if depth > penetration_implausible * c or depth > radius_implausible * r:
-            than = (
-                f"{depth / c:.3g} times {gap} = {c * 1e6:.4g} um"
-                if depth > penetration_implausible * c
-                else f"{depth / r:.3g} of the inner radius {r * 1e3:.4g} mm"
-            )
-            out.add(
-                IMPLAUSIBLE,
-                f"{name}: penetration {um} into the outer part's wall, {than}: far beyond "
-                "any elastic contact (is the contact stiffness too small, or the step too "
-                "large?)",
-            )
-        elif depth > penetration_warning * c:
-            out.add(
-                WARNING,
-                f"{name}: penetration {um} is {depth / c:.2g} of {gap}; contact "
-                "laws assume deformations small against it (check the stiffness)",
-            )
+        for where, d, gap, g in _gaps(result, name, depth, c):
+            um = f"{d * 1e6:.4g} um"
+            if d > penetration_implausible * g or d > radius_implausible * r:
+                than = (
+                    f"{d / g:.3g} times {gap} = {g * 1e6:.4g} um"
+                    if d > penetration_implausible * g
+                    else f"{d / r:.3g} of the inner radius {r * 1e3:.4g} mm"
+                )
+                out.add(
+                    IMPLAUSIBLE,
+                    f"{name}: penetration {um}{where} into the outer part's wall, {than}: "
+                    "far beyond any elastic contact (is the contact stiffness too small, or "
+                    "the step too large?)",
+                )
+            elif d > penetration_warning * g:
+                out.add(
+                    WARNING,
+                    f"{name}: penetration {um}{where} is {d / g:.2g} of {gap}; contact "
+                    "laws assume deformations small against it (check the stiffness)",
+                )
         if result.t.size and not len(result.impacts(name)) and depth <= 0.0:
             out.add(WARNING, f"{name}: never in contact (the clearance had no effect)")
     if result.t.size:
@@ -114,20 +112,28 @@ def plausibility(
     return out
 
 
-def _deepest_at_a_thrust_face(result, name: str) -> bool:
-    """Whether the deepest sampled penetration of joint `name` is at one of its thrust
-    points (a revolute joint's collars against the bearing's end faces), whose gap is the
-    axial clearance, not the radial one."""
-    if not hasattr(result, "points"):  # (a stand-in without contact points)
-        return False
+def _gaps(result, name: str, depth: float, c: float) -> list[tuple[str, float, str, float]]:
+    """(where, penetration, gap name, gap) to check for joint `name`: its peak penetration
+    (over the steps) against the radial clearance c; for a revolute joint with thrust
+    points (collars against the bearing's end faces), the radial and the thrust points
+    apart, each against its own gap (the axial clearance c_a for the thrust faces), the
+    peak going to the kind whose sampled penetration is deeper."""
+    ca = _axial_clearance(result, name) if hasattr(result, "points") else None
+    if not ca:  # (no thrust faces; or a stand-in without contact points)
+        return [("", depth, "the clearance c", c)]
     kinds = {p.name: p.kind for p in result.compiled.contact_points}
-    best, thrust = 0.0, False
+    deepest = {False: 0.0, True: 0.0}  # thrust point? -> deepest sampled penetration
     for p in result.points(name):
         d = result.channel("point_penetration", p)
-        m = float(np.max(d)) if d.size else 0.0
-        if m > best:
-            best, thrust = m, kinds.get(p) == "thrust_point"
-    return thrust
+        thrust = kinds.get(p) == "thrust_point"
+        deepest[thrust] = max(deepest[thrust], float(np.max(d)) if d.size else 0.0)
+    at_thrust = deepest[True] > deepest[False]
+    radial = deepest[False] if at_thrust else max(depth, deepest[False])
+    thrust = max(depth, deepest[True]) if at_thrust else deepest[True]
+    return [
+        (" (radial)", radial, "the clearance c", c),
+        (" at a thrust face", thrust, "the axial clearance c_a", float(ca)),
+    ]
 
 
 def _axial_clearance(result, name: str) -> float | None:

@@ -175,8 +175,9 @@ def run(
     timings: bool = typer.Option(False, "--timings", help="print the wall time of each stage"),
 ) -> None:
     """Run a scenario: ideal and clearance mechanism on the same IK drives; save and plot.
-    Exit 0: done; 1: a run stopped early; 2: invalid input; 3: implausible results (the
-    summary says why)."""
+    Exit 0: done; 1: a run stopped early (also [solver] max_wall_time); 2: invalid input;
+    3: implausible results (the summary says why); 130: Ctrl-C or SIGTERM (the results
+    computed until then are written)."""
     from clearance.io.outputs import check_outputs
     from clearance.model.errors import KinematicsError, ModelError
     from clearance.pipeline import (

@@ -85,6 +85,12 @@ def _set(obj: object, name: str, value: object) -> None:
 MIN_RELATIVE_CLEARANCE = 1e-9
 
 
+def _up3(x: float) -> str:
+    """x rounded up to 3 significant digits, as text (a bound printed that way holds)."""
+    scale = 10.0 ** (np.floor(np.log10(x)) - 2)
+    return f"{np.ceil(x / scale) * scale:.3g}"
+
+
 def _radii(obj: object, who: str, inner: str, outer: str) -> None:
     """Exactly one of the outer radius and radial_clearance; both stored, `given` says which
     the user gave (files write that one back)."""
@@ -114,13 +120,13 @@ def _radii(obj: object, who: str, inner: str, outer: str) -> None:
     else:
         c = _pos(who, "radial_clearance", c_given)  # kept exactly as given
         ro = ri + c
-    if not ro - ri >= MIN_RELATIVE_CLEARANCE * ri:  # (1e-20 m: ro == ri in floating point)
+    if not (c if c_given is not None else ro - ri) >= MIN_RELATIVE_CLEARANCE * ri:
         field = outer if c_given is None else "radial_clearance"
         raise ModelError(
             who,
             field,
             ro_given if c_given is None else c_given,
-            f"expected a radial clearance of at least {MIN_RELATIVE_CLEARANCE * ri:.3g} m "
+            f"expected a radial clearance of at least {_up3(MIN_RELATIVE_CLEARANCE * ri)} m "
             f"({MIN_RELATIVE_CLEARANCE:g} of {inner} = {ri} m: below it the two radii are "
             "the same number; for no clearance, remove the clearance)",
         )
