@@ -705,3 +705,27 @@ def test_watch_reports_lost_workers_and_new_attempts_of_running_cases(tmp_path):
         "worker died)" in text
     )
     assert "c2: attempt 2 of 3 on hostB:2 (attempt 1 failed: E: x)" in text
+
+
+def test_attempts_of_an_earlier_session_are_not_this_sessions(tmp_path):
+    """A case left 'running' after two attempts by an interrupted session is counted from 1
+    again when the study resumes: its finished line does not say 'after 3 attempts', and
+    the sidecar keeps the running total (3)."""
+    from clearance.sweep.store import case_files, write_json
+
+    params = """
+[[parameter]]
+path = "clearance.joints.S_1.radial_clearance"
+values = [3e-4]
+"""
+    folder = tmp_path / "resumed"
+    study = loads_study(study_text(folder, params, metrics=["impacts"]), source="r.toml")
+    (cid,) = (c.id for c in study.cases)
+    (folder / "cases").mkdir(parents=True)
+    write_json(case_files(folder, cid)[1], {"case": cid, "attempts": 2, "status": "running"})
+    lines = []
+    rep = run_study(study, scheduler="serial", progress=lines.append)
+    assert rep.finished == [cid]
+    done = next(x for x in lines if f"{cid} finished" in x)
+    assert "attempts" not in done, done
+    assert sidecars(folder)[cid]["attempts"] == 3

@@ -260,6 +260,11 @@ class _Tracker:
 
     def __init__(self, report: StudyReport, say: Callable[[str], None] | None, total: int):
         self.report, self.say, self.total, self.t0 = report, say, total, time.perf_counter()
+        self.before: dict[str, int] = {}  # case -> attempts recorded by earlier sessions
+
+    def attempts(self, info: Mapping[str, Any]) -> int:
+        """Attempts of a case in this session, from its sidecar's running count."""
+        return int(info.get("attempts", 1)) - self.before.get(str(info.get("case")), 0)
 
     def _line(self, msg: str) -> None:
         if self.say is None:
@@ -283,7 +288,7 @@ class _Tracker:
         p = info.get("summary", {}).get("clearance", {}).get("plausibility", {})
         if p.get("status") == "implausible":  # finished, but not a motion physics allows
             ok += "; IMPLAUSIBLE: " + "; ".join(p.get("findings", []))
-        n = int(info.get("attempts", 1))
+        n = self.attempts(info)
         tries = f" after {n} attempts" if n > 1 else ""
         self._line(f"{info['case']} finished in {info.get('elapsed', 0):.1f} s{tries}: {label}{ok}")
 
@@ -341,16 +346,16 @@ class _Watch:
             return
         before = self.seen.get(cid)
         self.seen[cid] = info
-        attempt = int(info.get("attempts", 1))
-        if attempt < 2 or (before is not None and int(before.get("attempts", 1)) >= attempt):
+        attempt = self.tr.attempts(info)  # (in this session: a resumed study starts at 1)
+        if attempt < 2 or (before is not None and self.tr.attempts(before) >= attempt):
             return
         if before is None:
             why = "an earlier attempt did not finish"
         elif before.get("status") == FAILED:
-            why = f"attempt {before.get('attempts')} failed: {before.get('reason', '')}"
+            why = f"attempt {self.tr.attempts(before)} failed: {before.get('reason', '')}"
         else:
             why = (
-                f"attempt {before.get('attempts')} on {before.get('worker', '?')} ended "
+                f"attempt {self.tr.attempts(before)} on {before.get('worker', '?')} ended "
                 "without a result: its worker died"
             )
         self.tr.note(
@@ -546,7 +551,7 @@ def _run_dask(
                     exc = fut.exception()
                     reason = _record_failure(Path(t["folder"]), t, exc)
                     side = read_json(case_files(Path(t["folder"]), t["case"])[1]) or {}
-                    tr.failed(t["case"], reason, label, int(side.get("attempts", 1)))
+                    tr.failed(t["case"], reason, label, tr.attempts(side))
                 fut.release()
     finally:
         for fut in futures:
@@ -601,6 +606,10 @@ def run_study(
     report.submitted = [t["case"] for t in tasks]
     labels = {c.id: c.label() for c in pending}
     tr = _Tracker(report, say, len(tasks))
+    for c in pending:  # attempts of earlier, interrupted sessions: not this session's
+        prior = read_json(case_files(folder, c.id)[1]) or {}
+        if prior.get("case") == c.id:
+            tr.before[c.id] = int(prior.get("attempts", 0))
     try:
         if tasks and scheduler == SERIAL:
             report.executor = SERIAL
