@@ -160,3 +160,17 @@ def test_check_estimates_the_clearance_run_and_warns(tmp_path):
     assert "warning: the estimated 1.2e+09 steps exceed [solver] max_steps" in r.output
     assert "Baumgarte stabilisation (alpha 1e+09" in r.output
     assert re.search(r"warning: this run may take ~[0-9.]+ (h|days)", r.output)
+
+
+def test_rk4_gets_no_step_budget_warning():
+    """rk4 has no max_steps: 2e5 fixed steps with max_steps = 1e5 is not 'stopping early'."""
+    from types import SimpleNamespace
+
+    from clearance.pipeline import cost_warnings
+
+    c = ball_in_socket(Hertz(stiffness=1e10))
+    est = estimate_cost(c, 2.0, method="rk4", step=1e-5, rhs_seconds=1e-9)
+    kw = {"method": "rk4", "max_steps": 100_000}
+    assert cost_warnings(est, SimpleNamespace(simulate_kwargs=kw)) == []
+    kw = {"method": "dopri5", "max_steps": 100_000}
+    assert "exceed [solver] max_steps" in cost_warnings(est, SimpleNamespace(simulate_kwargs=kw))[0]

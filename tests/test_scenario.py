@@ -878,3 +878,16 @@ def test_a_material_with_both_fields_wrong_reports_both(tmp_path: Path) -> None:
         "clearance.joints.S_1.ball_material.nu",
     ], str(e.value)
     assert "expected -1 < nu <= 0.5" in str(e.value)
+
+
+def test_long_runs_are_not_capped_by_the_ik_pose_limit() -> None:
+    """The IK pose limit is for periods that force dense sampling: a 300 s run with a
+    300 s period (15 001 poses at 0.02 s) is accepted, as before; a 300 s run whose 0.5 s
+    period needs 30 001 poses is refused on the period, with a bound that is accepted."""
+    ok = MINIMAL.replace("[solver]", "[trajectory]\nduration = 300.0\nperiod = 300.0\n\n[solver]")
+    assert loads_scenario(ok).trajectory.duration == 300.0
+    bad = ok.replace("period = 300.0", "period = 0.5")
+    with pytest.raises(ScenarioError, match=r"use a period of at least 1.5 s") as e:
+        loads_scenario(bad)
+    assert e.value.problems[0].field == "trajectory.period"
+    assert loads_scenario(ok.replace("period = 300.0", "period = 1.5")).trajectory.period == 1.5
