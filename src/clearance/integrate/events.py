@@ -5,8 +5,10 @@ the dense output of an accepted step, given as data: the continuous extension
 y(t + x h) = y + h sum_k K[k] b_k(x), b_k(x) = P[k, 0] x + ... + P[k, 3] x^4 of the method
 that made the step (tableau.py layout; any explicit Runge-Kutta method has one). delta is
 sampled at interior points of the step, and a sign change is bracketed and refined (Illinois
-regula falsi) until |delta| <= the point's tolerance (cp_geo[p, PG_TOL]: onset_tolerance
-times the joint's clearance) on the far side of the crossing. The step is then cut at the event,
+regula falsi) until the bracket is narrower than the integrator's rtol times the step (a
+time tolerance: event times and latched impact velocities converge with rtol) and
+|delta| <= the point's tolerance (cp_geo[p, PG_TOL]: onset_tolerance times the joint's
+clearance), on the far side of the crossing. The step is then cut at the event,
 and `update_contacts` applies the discrete update (contact flag; impact velocity latched,
 floored; LuGre bristles reset at separation) and logs the event.
 
@@ -183,14 +185,16 @@ def _wants(flag, d):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, dlo, xhi, dhi):
+def _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, dlo, xhi, dhi, xtol):
     """Illinois regula falsi on delta_p(x) over [xlo, xhi] (a crossing inside); returns x
-    on the far side with |delta| <= the point's tolerance (or a bracket below 1e-14)."""
+    on the far side, the bracket narrower than xtol (the time tolerance, in steps) and
+    |delta| <= the point's tolerance (or a bracket below 1e-14)."""
     flag = cs.flag[p]
     tol = model.cp_geo[p, PG_TOL]
+    xtol = max(xtol, 1e-14)
     side = 0
     for _ in range(100):
-        if abs(dhi) <= tol or xhi - xlo < 1e-14:
+        if (abs(dhi) <= tol and xhi - xlo <= xtol) or xhi - xlo < 1e-14:
             break
         if dhi != dlo:
             xm = xhi - dhi * (xhi - xlo) / (dhi - dlo)
@@ -216,12 +220,14 @@ def _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, dlo, xhi, dhi):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def locate_event(model, wk, cs, t, y, K, P, h):
+def locate_event(model, wk, cs, t, y, K, P, h, xtol):
     """Earliest contact event inside the step (x in (0, 1]) and its contact point, or
     (2.0, -1); delta is probed on the dense output (y, K, P, h) of the step's method.
 
-    The returned x is on the far side of the crossing with |delta| <= the point's tolerance
-    (or the bracket is below 1e-14 of the step), so the discrete update applies there.
+    The returned x is on the far side of the crossing, at most xtol (a fraction of the
+    step: the integrator's rtol, so that event times converge with it) past the root, with
+    |delta| <= the point's tolerance (or the bracket is below 1e-14 of the step), so the
+    discrete update applies there, with the approach velocity of the crossing.
     """
     xbest = 2.0
     pbest = -1
@@ -254,7 +260,7 @@ def locate_event(model, wk, cs, t, y, K, P, h):
             continue
         for p in range(p0, p1):
             if _wants(cs.flag[p], d1[p]):
-                xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, d0[p], xhi, d1[p])
+                xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, d0[p], xhi, d1[p], xtol)
                 if xp < xbest:
                     xbest = xp
                     pbest = p

@@ -240,7 +240,8 @@ class Clearance:
     ball_material / socket_material: used when a law's stiffness is computed from materials.
     velocity_floor: floor of the impact velocity delta_dot_minus captured at onset [m/s]
     (physics.md f.5, PROPOSED 1e-4). onset_tolerance: the contact onset is localised so that
-    the penetration at the recorded onset is below onset_tolerance * c.
+    the penetration at the recorded onset is below onset_tolerance * c, and (always) to a
+    time within the integrator's rtol times the step of the crossing.
     """
 
     ball_radius: float
