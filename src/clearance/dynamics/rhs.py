@@ -54,8 +54,7 @@ class Work(NamedTuple):
     vd: np.ndarray  # (nb, 6)
     cout: np.ndarray  # (nclr, NCOUT) clearance-joint diagnostics of the last evaluation
     pout: np.ndarray  # (ncp, NPOUT) contact-point diagnostics of the last evaluation
-    ev_d0: np.ndarray  # (ncp,) scratch of the event search: gaps at the bracket's start
-    ev_d1: np.ndarray  # (ncp,) and at its end
+    ev_d: np.ndarray  # (ncp, 5) scratch of the event search: the gaps at the step's probes
     bJ: np.ndarray  # (nb, 3, 3) current inertia J'(t) (constant unless InertiaVariation)
     bJinv: np.ndarray  # (nb, 3, 3) its inverse
     bJd: np.ndarray  # (nb, 3) diagonal of J'_dot (the variation is diagonal in body axes)
@@ -87,8 +86,7 @@ def make_work(model) -> Work:
         vd=np.zeros((nb, 6)),
         cout=np.zeros((model.nclr, NCOUT)),
         pout=np.zeros((model.ncp, NPOUT)),
-        ev_d0=np.zeros(model.ncp),
-        ev_d1=np.zeros(model.ncp),
+        ev_d=np.zeros((model.ncp, 5)),
         bJ=np.array(model.body_J, dtype=float).reshape(nb, 3, 3),
         bJinv=np.array(model.body_Jinv, dtype=float).reshape(nb, 3, 3),
         bJd=np.zeros((nb, 3)),

@@ -8,7 +8,9 @@ sampled at interior points of the step, and a sign change is bracketed and refin
 regula falsi) until the bracket is narrower than the integrator's rtol times the step (a
 time tolerance: event times and latched impact velocities converge with rtol) and
 |delta| <= the point's tolerance (cp_geo[p, PG_TOL]: onset_tolerance times the joint's
-clearance), on the far side of the crossing. The step is then cut at the event,
+clearance), on the far side of the crossing. A graze (a contact that begins and ends
+between two probes, every probe on the same side) is looked for on the quartic through the
+five probes and confirmed by a probe of the gap at its extremum. The step is then cut at the event,
 and `update_contacts` applies the discrete update (contact flag; impact velocity latched,
 floored; LuGre bristles reset at separation) and logs the event.
 
@@ -45,7 +47,10 @@ from clearance.kinematics.timefn import eval_timefn
 
 _LUGRE = int(FrictionLaw.LUGRE)
 # interior samples of a step at which delta is checked before bracketing a crossing
+# (4: the graze search fits a quartic through the 5 probes)
 _NSAMPLE = 4
+# points per probe interval at which the graze search evaluates the quartic
+_NGRAZE = 8
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -231,14 +236,12 @@ def locate_event(model, wk, cs, t, y, K, P, h, xtol):
     """
     xbest = 2.0
     pbest = -1
-    d0 = wk.ev_d0
-    d1 = wk.ev_d1
+    d = wk.ev_d  # (ncp, _NSAMPLE + 1): the gaps at the probes x = j / _NSAMPLE
     for k in range(model.nclr):
         p0 = model.clr_ix[k, CI_P0]
         p1 = p0 + model.clr_ix[k, CI_NP]
-        xlo = 0.0
         found = False
-        xhi = 1.0
+        jhi = 0
         # x = 0 (the step's start) then the interior samples; one call site of the inlined
         # point_gap (each inlined copy costs seconds of cold compile)
         for j in range(_NSAMPLE + 1):
@@ -246,25 +249,63 @@ def locate_event(model, wk, cs, t, y, K, P, h, xtol):
             if j > 0 and x >= xbest:
                 break
             _place(model, wk, k, t, y, K, P, h, x)
+            jhi = j
             for p in range(p0, p1):
-                d1[p] = point_gap(model, p, wk.bA, wk.br, wk.fval)
-                if j > 0 and _wants(cs.flag[p], d1[p]):
+                d[p, j] = point_gap(model, p, wk.bA, wk.br, wk.fval)
+                if j > 0 and _wants(cs.flag[p], d[p, j]):
                     found = True
             if found:
-                xhi = x
                 break
-            xlo = x
+        if found:
+            xlo, xhi = (jhi - 1) / _NSAMPLE, jhi / _NSAMPLE
             for p in range(p0, p1):
-                d0[p] = d1[p]
-        if not found:
-            continue
-        for p in range(p0, p1):
-            if _wants(cs.flag[p], d1[p]):
-                xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, d0[p], xhi, d1[p], xtol)
+                if _wants(cs.flag[p], d[p, jhi]):
+                    dlo, dhi = d[p, jhi - 1], d[p, jhi]
+                    xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, dlo, xhi, dhi, xtol)
+                    if xp < xbest:
+                        xbest = xp
+                        pbest = p
+        elif jhi == _NSAMPLE:  # every probe agrees with the flags: a graze between them?
+            for p in range(p0, p1):
+                xg = _graze(d[p], cs.flag[p])
+                if xg >= xbest:
+                    continue
+                _place(model, wk, k, t, y, K, P, h, xg)
+                dg = point_gap(model, p, wk.bA, wk.br, wk.fval)
+                if not _wants(cs.flag[p], dg):
+                    continue  # (the interpolant's bump, not the gap's)
+                jlo = int(xg * _NSAMPLE)
+                xlo = jlo / _NSAMPLE
+                xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, d[p, jlo], xg, dg, xtol)
                 if xp < xbest:
                     xbest = xp
                     pbest = p
     return xbest, pbest
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _graze(s, flag):
+    """Where the quartic through the probes s (at x = j / 4) comes closest to an event
+    between them (flag 0: its largest value, 1: its smallest), if it crosses there; else
+    2.0. A contact that begins and ends between two probes (a graze) leaves every probe on
+    the same side; the quartic, exact for gaps that are quartic in x, finds such bumps
+    when the probes resolve their width."""
+    best, xb = 0.0, 2.0
+    for i in range(1, 4 * _NGRAZE):
+        x = i / (4 * _NGRAZE)
+        if i % _NGRAZE == 0:
+            continue  # (a probe)
+        q = 0.0
+        for j in range(5):  # Lagrange basis on the nodes 0, 1/4, ..., 1
+            w = 1.0
+            for m in range(5):
+                if m != j:
+                    w *= (4.0 * x - m) / (j - m)
+            q += w * s[j]
+        v = q if flag == 0 else -q
+        if v > best:
+            best, xb = v, x
+    return xb
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

@@ -1,0 +1,91 @@
+"""Contact event location on a step's dense output (clearance.integrate.events), against
+dense outputs built by hand so that the gap along the step is known in closed form."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import clearance as cl
+from clearance.contact.element import make_contact_state
+from clearance.dynamics.rhs import make_work
+from clearance.integrate.events import locate_event
+from clearance.integrate.tableau import DP5_P, TS5_P
+
+C, RB, H = 1e-4, 0.01, 1e-3  # clearance, ball radius [m], step [s]
+
+
+def free_ball() -> cl.Compiled:
+    """A ball body free in a ground socket (no gravity): the gap is |r| - c."""
+    m = cl.Mechanism("free ball", gravity=(0.0, 0.0, 0.0))
+    m.add(
+        cl.Body("ball", 1.0, (1e-4, 1e-4, 1e-4)),
+        cl.Marker("socket", "ground"),
+        cl.Marker("centre", "ball"),
+        cl.Spherical(
+            "S",
+            "socket",
+            "centre",
+            clearance=cl.Clearance(ball_radius=RB, radial_clearance=C, normal=cl.Hertz()),
+        ),
+    )
+    return cl.compile_mechanism(m)
+
+
+def step_with_gap(c: cl.Compiled, P: np.ndarray, poly: np.ndarray):
+    """(y, K) of a step whose dense output moves the ball along x so that its distance
+    from the socket centre is poly(x) = sum_j poly[j] x^j (degree <= 4), x in [0, 1]."""
+    y = np.array(c.y0, dtype=float)
+    y[0:3] = (poly[0], 0.0, 0.0)
+    K = np.zeros((7, c.ny))
+    # h sum_k K[k] b_k(x) = poly(x) - poly(0), b_k(x) = sum_j P[k, j] x^(j+1)
+    K[:, 0] = np.linalg.lstsq(P.T, np.asarray(poly[1:5], float) / H, rcond=None)[0]
+    return y, K
+
+
+def locate(c, P, poly, flag=0, xtol=1e-12):
+    y, K = step_with_gap(c, P, poly)
+    cs = make_contact_state(c.model)
+    cs.flag[:] = flag
+    return locate_event(c.model, make_work(c.model), cs, 0.0, y, K, P, H, xtol)
+
+
+def bump(peak: float, x0: float = 0.1, q: float = 1e-6) -> np.ndarray:
+    """Distance C + peak - q (x - x0)^2 as polynomial coefficients (x^0 .. x^4)."""
+    return np.array([C + peak - q * x0 * x0, 2 * q * x0, -q, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("P", [DP5_P, TS5_P], ids=["dopri5", "tsit5"])
+def test_a_graze_between_probes_is_found_at_its_crossing(P):
+    """The gap rises to +1e-9 m at x = 0.1 and falls back, every probe (x = 0, 1/4, ...,
+    1) below zero: the onset is found at the first root, x = 0.1 - sqrt(1e-9 / 1e-6)."""
+    c = free_ball()
+    x, p = locate(c, P, bump(1e-9))
+    assert p == 0 and x == pytest.approx(0.1 - math.sqrt(1e-3), abs=1e-9)
+
+
+def test_a_near_miss_is_not_an_event():
+    """The same bump peaking at -1e-9 m: no contact, no event (the probe at the quartic's
+    peak confirms the gap stays negative)."""
+    x, p = locate(free_ball(), DP5_P, bump(-1e-9))
+    assert (x, p) == (2.0, -1)
+
+
+def test_a_brief_separation_between_probes_is_found():
+    """In contact (flag 1), the gap dips to -1e-9 m around x = 0.6 and returns: the
+    separation is located at the first root."""
+    poly = -bump(1e-9, x0=0.6) + 2 * np.array([C, 0, 0, 0, 0])  # C - 1e-9 + q (x - 0.6)^2
+    x, p = locate(free_ball(), DP5_P, poly, flag=1)
+    assert p == 0 and x == pytest.approx(0.6 - math.sqrt(1e-3), abs=1e-9)
+
+
+def test_a_crossing_at_a_probe_interval_is_located_to_the_time_tolerance():
+    """A plain onset (the gap rising through 0 between probes 2 and 3) is located within
+    xtol past the root, whatever the penetration tolerance."""
+    root = 0.6
+    poly = np.array([C - 1e-6 * root, 1e-6, 0.0, 0.0, 0.0])  # gap 1e-6 (x - root)
+    for xtol in (1e-4, 1e-8, 1e-12):
+        x, p = locate(free_ball(), DP5_P, poly, xtol=xtol)
+        assert p == 0 and root <= x <= root + max(xtol, 1e-13)
