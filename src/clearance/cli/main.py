@@ -398,7 +398,7 @@ class LiveProgress:
         self.stream = stream if stream is not None else sys.stderr
         self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
         self.every = every if not self.tty else 0.2
-        self.lock = threading.Lock()
+        self.lock = threading.RLock()  # (say: clear and print under one hold)
         self.reached: dict[str, float] = {}
         self.t0 = self.last = 0.0
         self.shown = 0  # characters of the bar on screen
@@ -436,8 +436,9 @@ class LiveProgress:
                 self.shown = 0
 
     def say(self, msg: str) -> None:
-        self.clear()
-        typer.echo(msg)
+        with self.lock:  # (no redraw from the other run's thread in between)
+            self.clear()
+            typer.echo(msg)
 
 
 def _load(path: Path, loader):
