@@ -16,47 +16,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from models import rod_on_clearance_joint
 
 import clearance as cl
 import clearance.integrate.simulate as sim
 from clearance.kinds import Status
 from clearance.model.contact_laws import Flores, LuGre
 
-RB, C = 0.01, 1e-4
-
-
-def pendulum():
-    """A rod hanging from a spherical clearance joint, swinging and spinning: impacts,
-    friction (LuGre bristle states) and located contact events within 0.1 s."""
-    th, L = 0.5, 0.5
-    R = np.array([[np.cos(th), 0, np.sin(th)], [0, 1, 0], [-np.sin(th), 0, np.cos(th)]])
-    m = cl.Mechanism("clearance pendulum")
-    m.add(
-        cl.Body(
-            "rod",
-            1.0,
-            (0.0209, 0.0209, 0.0002),
-            position=R @ [0, 0, -L / 2],
-            orientation=R,
-            angular_velocity=(0.3, 0.0, 0.5),
-        ),
-        cl.Marker("socket", "ground"),
-        cl.Marker("ball", "rod", (0, 0, L / 2)),
-        cl.Spherical(
-            "S",
-            "socket",
-            "ball",
-            clearance=cl.Clearance(
-                ball_radius=RB, radial_clearance=C, normal=Flores(restitution=0.9), friction=LuGre()
-            ),
-        ),
-    )
-    return cl.compile_mechanism(m)
-
 
 @pytest.fixture(scope="module")
 def comp():
-    return pendulum()
+    """Impacts, friction (LuGre bristle states) and located events within 0.1 s."""
+    return rod_on_clearance_joint(Flores(restitution=0.9), LuGre())
 
 
 def arrays(r):
