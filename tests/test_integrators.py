@@ -240,5 +240,5 @@ def test_contact_events_converge_with_rtol(method):
         assert r.events.shape == ref.events.shape
         ev[rtol] = np.max(np.abs(r.events[:, [0, 3]] - ref.events[:, [0, 3]]), axis=0)
     assert err[1e-10] < 2e-10 and err[1e-8] > 30 * err[1e-10], err
-    assert ev[1e-10][0] < 2e-8 and ev[1e-8][0] > 10 * ev[1e-10][0], ev  # onset times [s]
+    assert ev[1e-10][0] < 2e-8 and ev[1e-8][0] > 10 * ev[1e-10][0], ev  # event times [s]
     assert ev[1e-10][1] < 1e-7, ev  # impact velocities [m/s]

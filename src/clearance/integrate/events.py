@@ -10,9 +10,12 @@ time tolerance: event times and latched impact velocities converge with rtol) an
 |delta| <= the point's tolerance (cp_geo[p, PG_TOL]: onset_tolerance times the joint's
 clearance), on the far side of the crossing. A graze (a contact that begins and ends
 between two probes, every probe on the same side) is looked for on the quartic through the
-five probes and confirmed by a probe of the gap at its extremum. The step is then cut at the event,
-and `update_contacts` applies the discrete update (contact flag; impact velocity latched,
-floored; LuGre bristles reset at separation) and logs the event.
+five probes, bump by bump in time, and confirmed by a probe of the gap at its extremum; it
+is found when one of the quartic's evaluation points (8 per probe interval) falls inside
+it. Every joint's probes are taken even after an earlier joint's event in the step. The
+step is then cut at the event, and `update_contacts` applies the discrete update (contact
+flag; impact velocity latched, floored; LuGre bristles reset at separation) and logs the
+event.
 
 A probe of delta needs only the joint's two bodies: it interpolates their 7 + 7 position
 entries and evaluates only the slide functions of moving centres (the full state and all
@@ -240,43 +243,45 @@ def locate_event(model, wk, cs, t, y, K, P, h, xtol):
     for k in range(model.nclr):
         p0 = model.clr_ix[k, CI_P0]
         p1 = p0 + model.clr_ix[k, CI_NP]
-        found = False
-        jhi = 0
-        # x = 0 (the step's start) then the interior samples; one call site of the inlined
+        # every probe of every joint (an event of an earlier joint does not end the search:
+        # this joint's may come first, between probes); one call site of the inlined
         # point_gap (each inlined copy costs seconds of cold compile)
         for j in range(_NSAMPLE + 1):
-            x = j / _NSAMPLE
-            if j > 0 and x >= xbest:
-                break
-            _place(model, wk, k, t, y, K, P, h, x)
-            jhi = j
+            _place(model, wk, k, t, y, K, P, h, j / _NSAMPLE)
             for p in range(p0, p1):
                 d[p, j] = point_gap(model, p, wk.bA, wk.br, wk.fval)
-                if j > 0 and _wants(cs.flag[p], d[p, j]):
-                    found = True
-            if found:
-                break
-        if found:
-            xlo, xhi = (jhi - 1) / _NSAMPLE, jhi / _NSAMPLE
-            for p in range(p0, p1):
-                if _wants(cs.flag[p], d[p, jhi]):
-                    dlo, dhi = d[p, jhi - 1], d[p, jhi]
-                    xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, dlo, xhi, dhi, xtol)
+        for p in range(p0, p1):
+            flag = cs.flag[p]
+            # the first probe interval whose end contradicts the flag (a crossing)
+            jc = _NSAMPLE + 1
+            for j in range(1, _NSAMPLE + 1):
+                if _wants(flag, d[p, j]):
+                    jc = j
+                    break
+            # a graze (in and out between two probes) before it, on the quartic
+            xs = 0.0
+            xend = min((jc - 1) / _NSAMPLE, xbest)
+            for _ in range(_NSAMPLE * _NGRAZE):
+                xg = _graze(d[p], flag, xs, xend)
+                if xg >= xend:
+                    break
+                _place(model, wk, k, t, y, K, P, h, xg)
+                dg = point_gap(model, p, wk.bA, wk.br, wk.fval)
+                if _wants(flag, dg):
+                    jlo = int(xg * _NSAMPLE)
+                    xlo = jlo / _NSAMPLE
+                    xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, d[p, jlo], xg, dg, xtol)
                     if xp < xbest:
                         xbest = xp
                         pbest = p
-        elif jhi == _NSAMPLE:  # every probe agrees with the flags: a graze between them?
-            for p in range(p0, p1):
-                xg = _graze(d[p], cs.flag[p])
-                if xg >= xbest:
-                    continue
-                _place(model, wk, k, t, y, K, P, h, xg)
-                dg = point_gap(model, p, wk.bA, wk.br, wk.fval)
-                if not _wants(cs.flag[p], dg):
-                    continue  # (the interpolant's bump, not the gap's)
-                jlo = int(xg * _NSAMPLE)
-                xlo = jlo / _NSAMPLE
-                xp = _refine(model, wk, cs, p, k, t, y, K, P, h, xlo, d[p, jlo], xg, dg, xtol)
+                    jc = _NSAMPLE + 1  # (found before any crossing)
+                    break
+                xs = xg  # the quartic's bump, not the gap's: look further on
+            if jc <= _NSAMPLE and (jc - 1) / _NSAMPLE < xbest:
+                xlo, xhi = (jc - 1) / _NSAMPLE, jc / _NSAMPLE
+                xp = _refine(
+                    model, wk, cs, p, k, t, y, K, P, h, xlo, d[p, jc - 1], xhi, d[p, jc], xtol
+                )
                 if xp < xbest:
                     xbest = xp
                     pbest = p
@@ -284,28 +289,49 @@ def locate_event(model, wk, cs, t, y, K, P, h, xtol):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _graze(s, flag):
-    """Where the quartic through the probes s (at x = j / 4) comes closest to an event
-    between them (flag 0: its largest value, 1: its smallest), if it crosses there; else
-    2.0. A contact that begins and ends between two probes (a graze) leaves every probe on
-    the same side; the quartic, exact for gaps that are quartic in x, finds such bumps
-    when the probes resolve their width."""
-    best, xb = 0.0, 2.0
-    for i in range(1, 4 * _NGRAZE):
-        x = i / (4 * _NGRAZE)
-        if i % _NGRAZE == 0:
-            continue  # (a probe)
+def _graze(s, flag, xstart, xend):
+    """The first bump of the quartic through the probes s (at x = j / _NSAMPLE) after
+    xstart and before xend that contradicts the flag (flag 0: above zero, 1: below), at
+    its extremum; xend if none. A contact that begins and ends between two probes (a
+    graze) leaves every probe on the same side; the quartic, exact for gaps that are
+    quartic in x, finds such bumps when the evaluation points (_NGRAZE per probe interval)
+    fall inside them."""
+    n = _NSAMPLE * _NGRAZE
+    inside, best, xb = False, 0.0, xend
+    for i in range(1, n):
+        x = i / n
+        if x <= xstart or i % _NGRAZE == 0:
+            continue  # (before the start, or a probe)
+        if x >= xend:
+            break
         q = 0.0
-        for j in range(5):  # Lagrange basis on the nodes 0, 1/4, ..., 1
-            w = 1.0
-            for m in range(5):
-                if m != j:
-                    w *= (4.0 * x - m) / (j - m)
-            q += w * s[j]
+        for j in range(_NSAMPLE + 1):  # Lagrange basis on the probes
+            q += _LAGRANGE[i, j] * s[j]
         v = q if flag == 0 else -q
-        if v > best:
-            best, xb = v, x
+        if v > 0.0:
+            if not inside or v > best:
+                inside, best, xb = True, v, x
+        elif inside:  # past the first bump: its extremum
+            break
     return xb
+
+
+def _lagrange_table(n_sample: int, n_graze: int) -> np.ndarray:
+    """L[i, j]: the Lagrange basis polynomial of probe j at x = i / (n_sample n_graze)."""
+    n = n_sample * n_graze
+    out = np.zeros((n + 1, n_sample + 1))
+    for i in range(n + 1):
+        x = i / n
+        for j in range(n_sample + 1):
+            w = 1.0
+            for m in range(n_sample + 1):
+                if m != j:
+                    w *= (n_sample * x - m) / (j - m)
+            out[i, j] = w
+    return out
+
+
+_LAGRANGE = _lagrange_table(_NSAMPLE, _NGRAZE)  # (a compile-time constant of _graze)
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
