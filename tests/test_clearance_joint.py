@@ -212,7 +212,7 @@ def test_energy_audit_with_damping_and_friction(friction, method):
         assert np.all(np.einsum("ij,ij->i", ft, vt) <= 1e-12)
 
 
-@pytest.mark.parametrize("method", ["dopri5", "tsit5"])
+@pytest.mark.parametrize("method", ["dopri5", "tsit5", "dop853"])
 def test_hertz_without_damping_conserves_energy(method):
     r = cl.simulate(
         pendulum(Hertz(), NoFriction()), 0.3, dt_out=5e-4, method=method, rtol=1e-9, atol=1e-12
@@ -224,7 +224,7 @@ def test_hertz_without_damping_conserves_energy(method):
     assert np.max(np.abs(e["damping"])) == 0.0
 
 
-@pytest.mark.parametrize("method", ["dopri5", "tsit5"])
+@pytest.mark.parametrize("method", ["dopri5", "tsit5", "dop853"])
 def test_ball_stays_in_clearance_and_outputs_consistent(method):
     r = cl.simulate(pendulum(Flores(restitution=0.9), LuGre()), 0.3, dt_out=2e-4, method=method)
     e = r.eccentricity("S")
@@ -304,7 +304,7 @@ def test_clearance_to_zero_approaches_ideal_joint():
     assert errs[1] < 5e-5
 
 
-@pytest.mark.parametrize("method", ["dopri5", "tsit5"])
+@pytest.mark.parametrize("method", ["dopri5", "tsit5", "dop853"])
 def test_two_clearance_joints_stay_within_clearance(method):
     """A spatial double pendulum whose two spherical joints both have clearance."""
     from clearance.mechanisms.examples import double_pendulum
@@ -363,7 +363,7 @@ def test_with_clearance_is_one_line_and_names_the_joints_that_can_have_clearance
         m.with_clearance("nope", Clearance(ball_radius=RB, radial_clearance=C))
 
 
-@pytest.mark.parametrize("method", ["dopri5", "tsit5", "rk4"])
+@pytest.mark.parametrize("method", ["dopri5", "tsit5", "dop853", "rk4"])
 def test_peak_contact_force_is_resolved_between_samples(method):
     """A central impact shorter than the output interval: the output grid sees no contact at
     all, the peak is still found at the integration steps. Oracle: undamped Hertz, head-on,

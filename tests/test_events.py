@@ -13,6 +13,7 @@ from clearance.contact.element import make_contact_state
 from clearance.dynamics.rhs import make_work
 from clearance.integrate.events import locate_event
 from clearance.integrate.tableau import DP5_P, TS5_P
+from clearance.integrate.tableau_dop853 import P as D8_P
 
 C, RB, H = 1e-4, 0.01, 1e-3  # clearance, ball radius [m], step [s]
 
@@ -40,11 +41,12 @@ def step_with_gap(c: cl.Compiled, P: np.ndarray, *polys: np.ndarray):
     """(y, K) of a step whose dense output moves ball b along x so that its distance from
     its socket centre is polys[b](x) = sum_j polys[b][j] x^j (degree <= 4), x in [0, 1]."""
     y = np.array(c.y0, dtype=float)
-    K = np.zeros((7, c.ny))
+    K = np.zeros((P.shape[0], c.ny))
     for b, poly in enumerate(polys):
         y[7 * b : 7 * b + 3] = (b + poly[0], 0.0, 0.0)
         # h sum_k K[k] b_k(x) = poly(x) - poly(0), b_k(x) = sum_j P[k, j] x^(j+1)
-        coef = np.asarray(poly[1:5], float) / H
+        coef = np.zeros(P.shape[1])  # x^1 .. x^degree
+        coef[:4] = np.asarray(poly[1:5], float) / H
         K[:, 7 * b] = np.linalg.lstsq(P.T, coef, rcond=None)[0]
     return y, K
 
@@ -61,7 +63,7 @@ def bump(peak: float, x0: float = 0.1, q: float = 1e-6) -> np.ndarray:
     return np.array([C + peak - q * x0 * x0, 2 * q * x0, -q, 0.0, 0.0])
 
 
-@pytest.mark.parametrize("P", [DP5_P, TS5_P], ids=["dopri5", "tsit5"])
+@pytest.mark.parametrize("P", [DP5_P, TS5_P, D8_P], ids=["dopri5", "tsit5", "dop853"])
 def test_a_graze_between_probes_is_found_at_its_crossing(P):
     """The gap rises to +1e-9 m at x = 0.1 and falls back, every probe (x = 0, 1/4, ...,
     1) below zero: the onset is found at the first root, x = 0.1 - sqrt(1e-9 / 1e-6)."""

@@ -162,11 +162,11 @@ def test_dense_output_local_order(method):
         y1 = y0 + h * (B @ K)
         err = 0.0
         for x in xs:
-            interpolate(y0, K, P, h, x, out)
+            interpolate(y0, K, P, h, x, out, np.empty(7))
             err = max(err, np.max(np.abs(out - _exact(t0 + x * h))))
         dense.append(err)
         end.append(np.max(np.abs(y1 - _exact(t0 + h))))
-        interpolate(y0, K, P, h, 1.0, out)
+        interpolate(y0, K, P, h, 1.0, out, np.empty(7))
         assert np.max(np.abs(out - y1)) < 1e-15
     dense, end = np.array(dense), np.array(end)
     pairwise = np.log2(dense[:-1] / dense[1:])

@@ -26,7 +26,7 @@ from clearance.analysis.assembly import assemble, velocity_analysis
 from clearance.analysis.ik import IKResult, drives_from_ik, inverse_kinematics
 from clearance.analysis.plausibility import plausibility
 from clearance.compile.compiled import Compiled, compile_mechanism
-from clearance.integrate.methods import ADAPTIVE
+from clearance.integrate.methods import ADAPTIVE, resolve_method
 from clearance.integrate.simulate import Interrupted, initial_state, latch_contacts, simulate
 from clearance.io.outputs import resolve_outputs
 from clearance.kinds import Status
@@ -509,7 +509,8 @@ def _compile_contact_kernels(cc: Compiled, method: str, ready) -> None:  # pragm
         clearance_forces(m, y, wk, cs, np.zeros_like(y))
         data = METHODS[method].data
         if data:  # the adaptive loops: their dense-output matrix P is the last item
-            locate_event(m, wk, cs, 0.0, y, np.zeros((7, y.size)), data[-1], 1e-3, 1e-6)
+            K = np.zeros((data[-1].shape[0], y.size))  # a row per stage of P
+            locate_event(m, wk, cs, 0.0, y, K, data[-1], 1e-3, 1e-6)
         latch_contacts(cc, cs, 0.0, y)
         ready.set()
         opts, out = _loop_inputs(cc)
@@ -677,7 +678,7 @@ def estimate_run(c_clr: Compiled, info, *, rhs_seconds: float | None = None):
     return estimate_cost(
         c_clr,
         info.t_end,
-        method=kw["method"],
+        method=resolve_method(kw["method"], kw["rtol"]),
         rtol=kw["rtol"],
         step=kw["step"],
         max_step=kw["max_step"],
@@ -696,7 +697,8 @@ def cost_warnings(est, info, long_run: float | None = None) -> list[str]:
 
     long_run = LONG_RUN_SECONDS if long_run is None else long_run
     kw, out = info.simulate_kwargs, []
-    if est.steps > kw["max_steps"] and kw["method"] in ADAPTIVE:  # (rk4 has no step budget)
+    adaptive = resolve_method(kw["method"], kw.get("rtol", 1e-6)) in ADAPTIVE
+    if est.steps > kw["max_steps"] and adaptive:  # (rk4 has no step budget)
         out.append(
             f"the estimated {est.steps:.2g} steps exceed [solver] max_steps = "
             f"{kw['max_steps']}: the run will likely stop early (set by {est.limit})"
@@ -835,7 +837,8 @@ def run_scenario(
     # compile need it before the IK; with reused drives it is also the model that runs
     c_clr = compile_mechanism(clr)
     _fits_in_memory(c_clr, info, s)  # before the inverse kinematics, not after
-    cold = ColdCompile(c_clr, info.simulate_kwargs["method"])
+    skw = info.simulate_kwargs
+    cold = ColdCompile(c_clr, resolve_method(skw["method"], skw.get("rtol", 1e-6)))
     if memo is not None:
         _say(log, "[2/5] inverse kinematics and ideal run: the same as the previous case")
     compiling = contextlib.ExitStack()  # one compile notice over the IK and the kernels

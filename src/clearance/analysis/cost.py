@@ -14,7 +14,8 @@ platform acceleration), and turns the fastest into a step count and a wall time:
 * a decay of rate lambda (bristle decay and damping, friction slopes, Baumgarte) only has
   to stay stable:
   h = STABILITY / lambda (the 5(4) pairs' real stability boundary, ~3.3);
-* rk4 takes exactly duration / step steps.
+* rk4 takes exactly duration / step steps; dop853 follows an oscillation to
+  h = kappa rtol^(1/8) / omega and stays stable to 6.39 / lambda (`HIGHER_ORDER`).
 
 Contact is assumed all the time (the balls of the shipped scenarios ride their sockets), so
 the estimate is of the order of the real count, not a bound. Measured: the shipped scenario
@@ -44,7 +45,11 @@ if TYPE_CHECKING:
 KAPPA = 30.0  # PROPOSED, calibrated (module docstring)
 STABILITY = 3.3  # real stability boundary of DOPRI5 / Tsit5 (Hairer & Wanner I, IV.2)
 LONG_RUN_SECONDS = 600.0  # PROPOSED: warn above this integration time ([checks] long_run)
-RHS_PER_STEP = {"dopri5": 6.5, "tsit5": 6.5, "rk4": 4.0}  # incl. ~8 % rejected steps
+RHS_PER_STEP = {"dopri5": 6.5, "tsit5": 6.5, "rk4": 4.0, "dop853": 15.0}  # incl. rejected
+#: per adaptive method other than the 5(4) pairs: (order, kappa, real stability boundary);
+#: dop853 (PROPOSED, calibrated like KAPPA: 4272 steps on the shipped scenario at rtol 1e-6,
+#: estimate 4.7e3; boundary 6.39 computed from its stability function)
+HIGHER_ORDER = {"dop853": (8, 20.0, 6.39)}
 
 
 @dataclass
@@ -182,13 +187,15 @@ def estimate_cost(
     """Estimated steps and integration time of `simulate(c, duration, ...)` (module
     docstring). acceleration: the motion's acceleration scale [m/s^2] (default: gravity;
     a scenario adds its platform's peak acceleration); speed: its velocity scale [m/s]
-    (slip speeds are taken as a tenth of it, PROPOSED; impacts at sqrt(2 a c))."""
+    (slip speeds are taken as a tenth of it, PROPOSED; impacts at sqrt(2 a c)). method: a
+    method's name ("auto" resolved first: `clearance.integrate.methods.resolve_method`)."""
     g = float(np.linalg.norm(c.mechanism.gravity))
     acc = max(g if acceleration is None else acceleration, 1e-3)
     scales = []  # (what, step it allows)
     if method == "rk4":
         scales.append(("the fixed step", step))
     else:
+        order, kappa, stability = HIGHER_ORDER.get(method, (5, KAPPA, STABILITY))
         if math.isfinite(max_step):
             scales.append(("max_step", max_step))
         alpha, beta = baumgarte
@@ -198,7 +205,7 @@ def estimate_cost(
                 scales.append(
                     (
                         f"the Baumgarte stabilisation (alpha {alpha:g}, beta {beta:g})",
-                        STABILITY / lam,
+                        stability / lam,
                     )
                 )
         cmin = min((ci.c for ci in c.clearances), default=0.0)
@@ -209,7 +216,10 @@ def estimate_cost(
             approach_speed=math.sqrt(2 * acc * max(cmin, 1e-9)),
         ):
             if rate > 0 and math.isfinite(rate):
-                h = KAPPA * rtol**0.2 / rate if kind == "oscillation" else STABILITY / rate
+                if kind == "oscillation":
+                    h = kappa * rtol ** (1.0 / order) / rate
+                else:
+                    h = stability / rate
                 scales.append((what, h))
             elif not math.isfinite(rate):
                 scales.append((what, 0.0))

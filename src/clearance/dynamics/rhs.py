@@ -29,6 +29,9 @@ from clearance.kinematics.rotations import quat_rate, quat_to_rot
 from clearance.kinematics.timefn import eval_all
 from clearance.layout import NCOUT, NPOUT, W_A, W_C, W_D, W_L, W_M
 
+#: most stages (with the dense output's extra ones) of an integration method (tableau.py)
+MAX_STAGES = 16
+
 
 class Work(NamedTuple):
     """Preallocated scratch arrays of one right-hand-side evaluation (no allocation inside)."""
@@ -58,6 +61,7 @@ class Work(NamedTuple):
     bJ: np.ndarray  # (nb, 3, 3) current inertia J'(t) (constant unless InertiaVariation)
     bJinv: np.ndarray  # (nb, 3, 3) its inverse
     bJd: np.ndarray  # (nb, 3) diagonal of J'_dot (the variation is diagonal in body axes)
+    dw: np.ndarray  # (MAX_STAGES,) scratch of the event search: the dense-output weights
 
 
 def make_work(model) -> Work:
@@ -90,6 +94,7 @@ def make_work(model) -> Work:
         bJ=np.array(model.body_J, dtype=float).reshape(nb, 3, 3),
         bJinv=np.array(model.body_Jinv, dtype=float).reshape(nb, 3, 3),
         bJd=np.zeros((nb, 3)),
+        dw=np.zeros(MAX_STAGES),
     )
 
 

@@ -52,6 +52,42 @@ def _err_norm(e, y, ynew, n, rtol, atol):
     return math.sqrt(s / n)
 
 
+@njit(cache=True, error_model="numpy", _nrt=False)
+def initial_step(model, wk, cs, opts, stats, t, y, f0, f1, ytmp, span, order):
+    """First step size: opts.h0, or Hairer & Wanner I, II.4 for a method of that order
+    (f0 = f(t, y); f1 and ytmp: scratch; one more right-hand side, counted in stats)."""
+    h = opts.h0
+    if h > 0.0:
+        return h
+    ny = y.shape[0]
+    nerr = model.y_iw
+    rtol, atol = opts.rtol, opts.atol
+    d0 = 0.0
+    d1 = 0.0
+    for i in range(nerr):
+        sc = atol + rtol * abs(y[i])
+        d0 += (y[i] / sc) ** 2
+        d1 += (f0[i] / sc) ** 2
+    d0 = math.sqrt(d0 / nerr)
+    d1 = math.sqrt(d1 / nerr)
+    h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h = min(h, opts.hmax, span)
+    for i in range(ny):
+        ytmp[i] = y[i] + h * f0[i]
+    rhs(t + h, ytmp, model, wk, cs, opts.alpha, opts.beta, opts.solver, f1)
+    stats[ST_NFEV] += 1
+    d2 = 0.0
+    for i in range(nerr):
+        sc = atol + rtol * abs(y[i])
+        d2 += ((f1[i] - f0[i]) / sc) ** 2
+    d2 = math.sqrt(d2 / nerr) / h
+    if max(d1, d2) <= 1e-15:
+        h1 = max(1e-6, h * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / order)
+    return min(100 * h, h1, opts.hmax, span)
+
+
 @njit(cache=True, error_model="numpy", nogil=True)
 def erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
     """Integrate from (t0, y0), writing the samples at out.t_out (contract: state.py);
@@ -82,6 +118,7 @@ def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
     ynew = np.empty(ny)
     ytmp = np.empty(ny)
     err = np.empty(ny)
+    w = np.empty(K.shape[0])  # dense-output weights
     t_end = t_out[-1]
     nout = t_out.shape[0]
     # PI controller constants (DOPRI5's, used for both pairs): expo1 = 0.2 - 0.75 beta_pi
@@ -104,33 +141,7 @@ def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
         if st != 0:
             return _SINGULAR, iout, t, nlog
         track_peaks(wk, t, out.PK, np.bool_(True))
-        # initial step (Hairer & Wanner I, II.4)
-        h = opts.h0
-        if h <= 0.0:
-            d0 = 0.0
-            d1 = 0.0
-            for i in range(nerr):
-                sc = atol + rtol * abs(y[i])
-                d0 += (y[i] / sc) ** 2
-                d1 += (K[0, i] / sc) ** 2
-            d0 = math.sqrt(d0 / nerr)
-            d1 = math.sqrt(d1 / nerr)
-            h = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
-            h = min(h, hmax, t_end - t0)
-            for i in range(ny):
-                ytmp[i] = y[i] + h * K[0, i]
-            rhs(t + h, ytmp, model, wk, cs, alpha, beta, solver, K[1])
-            stats[ST_NFEV] += 1
-            d2 = 0.0
-            for i in range(nerr):
-                sc = atol + rtol * abs(y[i])
-                d2 += ((K[1, i] - K[0, i]) / sc) ** 2
-            d2 = math.sqrt(d2 / nerr) / h
-            if max(d1, d2) <= 1e-15:
-                h1 = max(1e-6, h * 1e-3)
-            else:
-                h1 = (0.01 / max(d1, d2)) ** 0.2
-            h = min(100 * h, h1, hmax, t_end - t0)
+        h = initial_step(model, wk, cs, opts, stats, t, y, K[0], K[1], ytmp, t_end - t0, 5.0)
         facold = 1e-4
         rejected = False
         nsteps = 0
@@ -201,14 +212,14 @@ def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
             if model.nclr > 0:
                 xev, _ = locate_event(model, wk, cs, t, y, K, P, h, rtol)
             if xev <= 1.0:
-                interpolate(y, K, P, h, xev, ynew)
+                interpolate(y, K, P, h, xev, ynew, w)
                 tnew = t + xev * h
                 stats[ST_NEVT] += 1
             else:
                 tnew = t + h
             # dense output for every requested time in (t, tnew]
             while iout < nout and t_out[iout] <= tnew:
-                interpolate(y, K, P, h, (t_out[iout] - t) / h, out.Y[iout])
+                interpolate(y, K, P, h, (t_out[iout] - t) / h, out.Y[iout], w)
                 if sample(model, wk, cs, opts, out, iout) != _SUCCESS:
                     return _SINGULAR, iout, t, nlog
                 iout += 1

@@ -2,7 +2,7 @@
 
 Onset (delta of a contact point crosses 0 upward) and separation (downward) are located on
 the dense output of an accepted step, given as data: the continuous extension
-y(t + x h) = y + h sum_k K[k] b_k(x), b_k(x) = P[k, 0] x + ... + P[k, 3] x^4 of the method
+y(t + x h) = y + h sum_k K[k] b_k(x), b_k(x) = P[k, 0] x + P[k, 1] x^2 + ... of the method
 that made the step (tableau.py layout; any explicit Runge-Kutta method has one). delta is
 sampled at interior points of the step, and a sign change is bracketed and refined (Illinois
 regula falsi) until the bracket is narrower than the integrator's rtol times the step (a
@@ -56,40 +56,35 @@ _NSAMPLE = 4
 _NGRAZE = 8
 
 
-@njit(cache=True, inline="always", error_model="numpy")
-def _weights(P, x):
-    """Dense-output weights b_k(x) = P[k, 0] x + ... + P[k, 3] x^4 of the 7 stages."""
-    x2 = x * x
-    x3 = x2 * x
-    x4 = x3 * x
-    return (
-        P[0, 0] * x + P[0, 1] * x2 + P[0, 2] * x3 + P[0, 3] * x4,
-        P[1, 0] * x + P[1, 1] * x2 + P[1, 2] * x3 + P[1, 3] * x4,
-        P[2, 0] * x + P[2, 1] * x2 + P[2, 2] * x3 + P[2, 3] * x4,
-        P[3, 0] * x + P[3, 1] * x2 + P[3, 2] * x3 + P[3, 3] * x4,
-        P[4, 0] * x + P[4, 1] * x2 + P[4, 2] * x3 + P[4, 3] * x4,
-        P[5, 0] * x + P[5, 1] * x2 + P[5, 2] * x3 + P[5, 3] * x4,
-        P[6, 0] * x + P[6, 1] * x2 + P[6, 2] * x3 + P[6, 3] * x4,
-    )
+@njit(cache=True, error_model="numpy", _nrt=False)
+def dense_weights(P, x, w):
+    """Dense-output weights w[k] = b_k(x) = P[k, 0] x + P[k, 1] x^2 + ... of the stages
+    (P: (stages, degree), tableau.py layout; w: (>= stages,) scratch)."""
+    for k in range(P.shape[0]):
+        xp = x
+        acc = P[k, 0] * xp
+        for j in range(1, P.shape[1]):
+            xp = xp * x
+            acc = acc + P[k, j] * xp
+        w[k] = acc
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def interpolate(y, K, P, h, x, out):
-    """Dense output at t + x h into out: the continuous extension P (7, 4) of the method whose
-    stages K (7, ny) made the step from y (layout of tableau.py). The weights are computed
-    once; the loop over the entries has no dependence between iterations, so it vectorises
-    (out must not alias y or K)."""
-    w0, w1, w2, w3, w4, w5, w6 = _weights(P, x)
+def interpolate(y, K, P, h, x, out, w):
+    """Dense output at t + x h into out: y + h sum_k K[k] b_k(x), the continuous extension P
+    of the method whose stages K made the step from y (tableau.py layout; w: scratch of
+    the weights). Summed over the stages in order for each entry (the loops over the
+    entries vectorise; out must not alias y or K)."""
+    dense_weights(P, x, w)
+    a = w[0]
     for i in range(y.shape[0]):
-        out[i] = y[i] + h * (
-            K[0, i] * w0
-            + K[1, i] * w1
-            + K[2, i] * w2
-            + K[3, i] * w3
-            + K[4, i] * w4
-            + K[5, i] * w5
-            + K[6, i] * w6
-        )
+        out[i] = K[0, i] * a
+    for k in range(1, P.shape[0]):
+        a = w[k]
+        for i in range(y.shape[0]):
+            out[i] += K[k, i] * a
+    for i in range(y.shape[0]):
+        out[i] = y[i] + h * out[i]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -127,36 +122,33 @@ def _pose_interp(model, wk, b, y, K, P, h, x):
     if b < 0:
         return
     q = 7 * b
-    w = _weights(P, x)
+    w = wk.dw
+    dense_weights(P, x, w)
+    nk = P.shape[0]
     _set_body(
         model,
         wk,
         b,
         y,
-        _interp1(y, K, h, q, w),
-        _interp1(y, K, h, q + 1, w),
-        _interp1(y, K, h, q + 2, w),
-        _interp1(y, K, h, q + 3, w),
-        _interp1(y, K, h, q + 4, w),
-        _interp1(y, K, h, q + 5, w),
-        _interp1(y, K, h, q + 6, w),
+        _interp1(y, K, h, q, w, nk),
+        _interp1(y, K, h, q + 1, w, nk),
+        _interp1(y, K, h, q + 2, w, nk),
+        _interp1(y, K, h, q + 3, w, nk),
+        _interp1(y, K, h, q + 4, w, nk),
+        _interp1(y, K, h, q + 5, w, nk),
+        _interp1(y, K, h, q + 6, w, nk),
         np.bool_(False),
     )
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _interp1(y, K, h, i, w):
-    """Entry i of the dense output with weights w = _weights(P, x) (the expression of
+def _interp1(y, K, h, i, w, nk):
+    """Entry i of the dense output with the weights w of its nk stages (the arithmetic of
     `interpolate`, to the bit)."""
-    return y[i] + h * (
-        K[0, i] * w[0]
-        + K[1, i] * w[1]
-        + K[2, i] * w[2]
-        + K[3, i] * w[3]
-        + K[4, i] * w[4]
-        + K[5, i] * w[5]
-        + K[6, i] * w[6]
-    )
+    acc = K[0, i] * w[0]
+    for k in range(1, nk):
+        acc += K[k, i] * w[k]
+    return y[i] + h * acc
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

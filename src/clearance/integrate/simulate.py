@@ -15,7 +15,7 @@ from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.contact.element import ContactState, make_contact_state
 from clearance.dynamics.rhs import make_work, rhs
 from clearance.integrate.buffers import prefaulted_copy, prefaulted_zeros
-from clearance.integrate.methods import METHODS, method_loop
+from clearance.integrate.methods import METHODS, method_loop, resolve_method
 from clearance.integrate.post import post_process
 from clearance.integrate.state import Options, Outputs
 from clearance.kinds import (
@@ -140,7 +140,7 @@ def simulate(
     t_start: float = 0.0,
     dt_out: float | None = None,
     t_out: np.ndarray | None = None,
-    method: str = "dopri5",
+    method: str = "auto",
     rtol: float = 1e-6,
     atol: float = 1e-9,
     first_step: float = 0.0,
@@ -162,13 +162,15 @@ def simulate(
 ) -> Result:
     """Simulate a mechanism from t_start to t_end.
 
-    Output at `t_out`, or every `dt_out` (default: 201 samples). method: "dopri5"
-    (Dormand-Prince 5(4)) or "tsit5" (Tsitouras 5(4)), both adaptive (rtol/atol, first_step,
-    max_step, min_step, max_steps) with dense output, or "rk4" (fixed `step`).
+    Output at `t_out`, or every `dt_out` (default: 201 samples). method: "tsit5" (Tsitouras
+    5(4)), "dopri5" (Dormand-Prince 5(4)) or "dop853" (Dormand-Prince 8(5,3)), adaptive
+    (rtol/atol, first_step, max_step, min_step, max_steps) with dense output; "auto" (the
+    default): tsit5 for rtol >= 1e-10, dop853 below (`methods.AUTO_RTOL`;
+    settings["method"] says which ran); or "rk4" (fixed `step`).
     baumgarte: (alpha, beta) [1/s]; solver: "auto" (Schur; least squares if the constraints
     are redundant), "schur", "dense", "lstsq"; projection: mass-weighted coordinate
     projection after every accepted step. Contact onsets and separations of clearance joints
-    are located (dopri5, tsit5: on the dense output) and logged (up to max_events). The
+    are located (adaptive methods: on the dense output) and logged (up to max_events). The
     initial state is assembled and its velocities made consistent unless
     assemble_positions=False. A failure returns the partial result with status != 0 and a
     message.
@@ -189,8 +191,10 @@ def simulate(
     evaluations.
     """
     c = system if isinstance(system, Compiled) else compile_mechanism(system)
-    if not isinstance(method, str) or method not in METHODS:
-        raise ModelError("simulate", "method", method, f"allowed: {', '.join(METHODS)}")
+    if not isinstance(method, str) or (method != "auto" and method not in METHODS):
+        raise ModelError(
+            "simulate", "method", method, f"allowed: 'auto', {', '.join(map(repr, METHODS))}"
+        )
     if not isinstance(solver, str) or solver not in _SOLVERS:
         raise ModelError("simulate", "solver", solver, f"allowed: {', '.join(_SOLVERS)}")
     if not finite_real(t_start):
@@ -224,6 +228,7 @@ def simulate(
         if not integral or not lo <= int(val) < 2**62:
             raise ModelError("simulate", name, val, f"expected an integer in [{lo}, 2**62)")
     max_steps, max_events = int(max_steps), int(max_events)
+    requested, method = method, resolve_method(method, rtol)
     if not (_number(max_wall_time) and max_wall_time > 0.0):  # inf: no limit
         raise ModelError(
             "simulate", "max_wall_time", max_wall_time, "expected seconds > 0 (inf: no limit)"
@@ -288,6 +293,7 @@ def simulate(
         proj_tol=projection_tol if projection else 0.0,
         step=step,
         max_events=max_events,
+        stages=METHODS[method].stages,
     )
     wk = make_work(c.model)
     cs = make_contact_state(c.model)
@@ -334,6 +340,7 @@ def simulate(
         message,
         dict(
             method=method,
+            method_requested=requested,
             rtol=rtol,
             atol=atol,
             max_step=max_step,
@@ -441,7 +448,9 @@ def check_output_size(
     )
 
 
-def loop_inputs(c: Compiled, t_out: np.ndarray, *, max_events: int, **opts) -> tuple:
+def loop_inputs(
+    c: Compiled, t_out: np.ndarray, *, max_events: int, stages: int = 7, **opts
+) -> tuple:
     """(Options, Outputs) of a compiled loop run of `c` sampled at `t_out`: the options
     (alpha, beta, solver code, rtol, atol, h0, hmax, hmin, max_steps, proj_tol, step) as
     the numbers the loops are compiled for, and zeroed output buffers."""
@@ -456,7 +465,7 @@ def loop_inputs(c: Compiled, t_out: np.ndarray, *, max_events: int, **opts) -> t
         PK=np.zeros((c.nclr, 4)),
         ctl=np.zeros(NCTL),
         ys=np.zeros(c.ny),
-        ks=np.zeros((7, c.ny)),
+        ks=np.zeros((stages, c.ny)),  # the method's stages (methods.Method.stages)
     )
     return opts, out
 

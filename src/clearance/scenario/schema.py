@@ -26,7 +26,7 @@ from typing import Any
 
 from clearance.analysis import plausibility as _pl
 from clearance.analysis.cost import LONG_RUN_SECONDS
-from clearance.integrate.methods import METHODS
+from clearance.integrate.methods import ADAPTIVE, METHODS
 from clearance.io.outputs import ALL as ALL_OUTPUTS
 from clearance.io.outputs import OUTPUTS
 from clearance.mechanisms.params import ParamSet, SpsCuParams
@@ -163,7 +163,7 @@ MECHANISMS: Mapping[MechanismType, MechanismKind] = {
 }
 
 _ENUMS = {
-    "method": tuple(METHODS),
+    "method": ("auto", *METHODS),
     "linear_solver": ("auto", "schur", "dense", "lstsq"),
     "formats": ("netcdf", "csv", "mat", "npz"),
     "figure_format": ("png", "pdf", "svg"),
@@ -308,8 +308,8 @@ CLEARANCE_KINDS: Mapping[str, ClearanceKindSpec] = {
 
 SOLVER_FIELDS = {
     "method": Field("choice", "dopri5", doc="integrator", choices=_ENUMS["method"]),
-    "rtol": Field("positive", 1e-6, doc="relative tolerance (dopri5, tsit5)"),
-    "atol": Field("positive", 1e-9, doc="absolute tolerance (dopri5, tsit5)"),
+    "rtol": Field("positive", 1e-6, doc="relative tolerance (dopri5, tsit5, dop853)"),
+    "atol": Field("positive", 1e-9, doc="absolute tolerance (dopri5, tsit5, dop853)"),
     "first_step": Field("nonneg", 0.0, "s", "first step (0: automatic)"),
     "max_step": Field("positive_inf", math.inf, "s", "largest step (inf: no limit)"),
     "min_step": Field("positive", 1e-14, "s", "smallest step before failure"),
@@ -512,7 +512,7 @@ class Scenario:
         if joints:
             jt += f" ({', '.join(joints)})"
         sv = self.solver
-        adaptive = sv.method in ("dopri5", "tsit5")
+        adaptive = sv.method in (*ADAPTIVE, "auto")
         tol = f"rtol {sv.rtol:g}, atol {sv.atol:g}" if adaptive else f"h {sv.step:g}"
         return (
             f"scenario '{self.name}': {self.mechanism.type.value}, {jt}, "
@@ -809,7 +809,8 @@ def _rk4_with_clearance(solver, clr, given: bool, limit: float, problems: Proble
         solver.step if given else f"{solver.step} (the default)",
         f"'rk4' has a fixed step and does not locate contact events: with clearance joints "
         f"use step <= {limit:g} s (the shipped scenarios' impacts last ~1e-4 s; "
-        "[checks] rk4_clearance_step), or method 'tsit5' / 'dopri5' (adaptive, events located)",
+        "[checks] rk4_clearance_step), or an adaptive method (events located): "
+        + ", ".join(repr(m) for m in ADAPTIVE),
     )
 
 
