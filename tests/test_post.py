@@ -60,6 +60,7 @@ def channels(r: cl.Result) -> np.ndarray:
 
 
 def assert_within_bound(interp: cl.Result, exact: cl.Result, post_tol: float, atol: float):
+    assert interp.settings["post_tol"] == post_tol  # (the default: rtol)
     np.testing.assert_array_equal(interp.q, exact.q)  # the states are not touched
     np.testing.assert_array_equal(interp.v, exact.v)
     X, X0 = channels(interp), channels(exact)
@@ -81,7 +82,7 @@ def test_interpolated_outputs_match_exact_evaluation_across_kinks(crane_runs) ->
     assert interp.success and exact.success
     assert exact.stats["post_exact"] == exact.t.size
     assert interp.stats["post_exact"] < exact.t.size / 4  # it did interpolate
-    assert_within_bound(interp, exact, 1e-8, 1e-9)
+    assert_within_bound(interp, exact, 1e-7, 1e-9)
     # the drive force jumps with the cart's acceleration at both ends of the ramp: the
     # samples next to the jumps carry the jump, not a smoothed version of it
     F, F0 = interp.actuator_force("drive"), exact.actuator_force("drive")
@@ -101,7 +102,7 @@ def test_uneven_output_times() -> None:
     kw = dict(t_out=t_out, rtol=1e-7, atol=1e-9)
     interp, exact = cl.simulate(c, 1.0, **kw), cl.simulate(c, 1.0, post_tol=0.0, **kw)
     assert interp.stats["post_exact"] < 0.75 * t_out.size  # (even grid: 0.29)
-    assert_within_bound(interp, exact, 1e-8, 1e-9)
+    assert_within_bound(interp, exact, 1e-7, 1e-9)
 
 
 def test_contact_changes_split_the_windows() -> None:
@@ -112,7 +113,7 @@ def test_contact_changes_split_the_windows() -> None:
     interp, exact = cl.simulate(c, 0.02, **kw), cl.simulate(c, 0.02, post_tol=0.0, **kw)
     assert interp.success and len(interp.impacts("S")) >= 3
     assert interp.stats["post_exact"] < exact.t.size / 2
-    assert_within_bound(interp, exact, 1e-8, 1e-10)
+    assert_within_bound(interp, exact, 1e-7, 1e-10)
     np.testing.assert_array_equal(interp.contact_peaks, exact.contact_peaks)
 
 

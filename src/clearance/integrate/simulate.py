@@ -186,7 +186,7 @@ def simulate(
     What is derived from the states at the samples (accelerations, multipliers, violations,
     energies, reactions, clearance diagnostics) is evaluated exactly on a subset of the
     samples and interpolated in between where the interpolant is verified to agree with the
-    exact values within post_tol |x| + atol (default post_tol: rtol / 10; 0: every sample
+    exact values within post_tol |x| + atol (default post_tol: rtol; 0: every sample
     evaluated exactly; `clearance.integrate.post`). `stats["post_exact"]` counts the exact
     evaluations.
     """
@@ -234,7 +234,7 @@ def simulate(
             "simulate", "max_wall_time", max_wall_time, "expected seconds > 0 (inf: no limit)"
         )
     if post_tol is None:
-        post_tol = rtol / 10.0
+        post_tol = rtol
     if not (finite_real(post_tol) and post_tol >= 0.0):
         raise ModelError(
             "simulate", "post_tol", post_tol, "expected a finite number >= 0 (0: no interpolation)"
