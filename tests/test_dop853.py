@@ -13,13 +13,21 @@ test_clearance_joint.py and test_events.py; the sliced loop in test_run_control.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.integrate._ivp.rk import Dop853DenseOutput
-from test_tsit5 import _gamma, _order, _slope, _trees, _u
+from test_tsit5 import (
+    T_END,
+    T_INNER,
+    _exact,
+    _f,
+    _gamma,
+    _order,
+    _slope,
+    _trees,
+    _u,
+)
 
 import clearance as cl
 from clearance.integrate import tableau_dop853 as d8
@@ -88,14 +96,6 @@ def test_dense_output_order_conditions_and_scipy_form():
         np.testing.assert_allclose(out, nested(x * h), rtol=0, atol=1e-13)
 
 
-def _f(t, y):
-    return np.array([1.0 + y[0] ** 2, -y[0] * y[1]])
-
-
-def _exact(t):
-    return np.array([math.tan(t), math.cos(t)])
-
-
 def test_dense_output_local_order():
     """One step from the exact y(0.3) of y1' = 1 + y1^2, y2' = -y1 y2 (y = (tan t, cos t)),
     the 15 stages by hand: dense output O(h^8) over the step, step end O(h^9).
@@ -132,11 +132,6 @@ def test_dense_output_local_order():
 
 
 # ---------------------------------------------------------------------------- the loop
-T_END = 1.0
-BAUMGARTE = (5.0, 5.0)
-T_INNER = np.append(0.0137 + 0.1 * np.arange(10), T_END)
-
-
 @pytest.fixture(scope="module")
 def compiled() -> cl.Compiled:
     return cl.compile_mechanism(double_pendulum())
@@ -144,7 +139,8 @@ def compiled() -> cl.Compiled:
 
 @pytest.fixture(scope="module")
 def reference(compiled):
-    f = cl.scipy_rhs(compiled, baumgarte=BAUMGARTE)
+    """y at T_INNER (test_tsit5's times) from SciPy's DOP853 at rtol 1e-13."""
+    f = cl.scipy_rhs(compiled, baumgarte=(5.0, 5.0))
     y0 = cl.initial_state(compiled)
     sol = solve_ivp(f, (0.0, T_END), y0, method="DOP853", rtol=1e-13, atol=1e-15, t_eval=T_INNER)
     assert sol.success

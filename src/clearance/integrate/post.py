@@ -45,6 +45,8 @@ smooth is there to interpolate.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit
 
@@ -59,38 +61,40 @@ DEGREE = 4
 MAX_SPACING = 256
 
 
+class Blocks(NamedTuple):
+    """The joints and drivers whose reactions are reported: first constraint row, row count,
+    reporting side (1: body j, 0: body i) and the body-frame point of the moment."""
+
+    row0: np.ndarray
+    nrow: np.ndarray
+    side: np.ndarray
+    pt: np.ndarray
+
+
+class PostArrays(NamedTuple):
+    """The post-processed outputs, 2-D, one row per sample: VD (v_dot), LAM, PHI, PHID, EN
+    (T, V, V_c), RF and RM (reaction force and moment, 3 per block), COUT (clearance joints,
+    NCOUT each), POUT (contact points, NPOUT each)."""
+
+    VD: np.ndarray
+    LAM: np.ndarray
+    PHI: np.ndarray
+    PHID: np.ndarray
+    EN: np.ndarray
+    RF: np.ndarray
+    RM: np.ndarray
+    COUT: np.ndarray
+    POUT: np.ndarray
+
+
 @njit(cache=True, error_model="numpy", nogil=True)
-def evaluate(
-    model,
-    wk,
-    cs,
-    alpha,
-    beta,
-    solver,
-    ts,
-    Y,
-    CS,
-    k,
-    blk_row0,
-    blk_nrow,
-    blk_side,
-    blk_pt,
-    yd,
-    VD,
-    LAM,
-    PHI,
-    PHID,
-    EN,
-    RF,
-    RM,
-    COUT,
-    POUT,
-):
-    """Fill row k of VD (v_dot), LAM, PHI, PHID, EN (T, V, V_c), the reaction force RF and
-    moment RM (world, about the joint point; (n, 3 blocks) each) of each block on its
-    reporting body (side 1: body j, side 0: body i), and the clearance diagnostics COUT (per
-    joint, (n, nclr NCOUT)) and POUT (per contact point, (n, ncp NPOUT)) from sample k.
-    cs: scratch for the sample's contact state, taken from CS; yd: scratch (ny,)."""
+def evaluate(model, wk, cs, alpha, beta, solver, ts, Y, CS, k, blk, yd, out):
+    """Fill row k of the PostArrays `out` from sample k: the reaction force and moment
+    (world, about the joint point) of each block on its reporting body, the rest as named
+    there. cs: scratch for the sample's contact state, taken from CS; yd: scratch (ny,)."""
+    VD, LAM, PHI, PHID, EN = out.VD, out.LAM, out.PHI, out.PHID, out.EN
+    RF, RM, COUT, POUT = out.RF, out.RM, out.COUT, out.POUT
+    blk_row0, blk_nrow, blk_side, blk_pt = blk.row0, blk.nrow, blk.side, blk.pt
     nb = model.nb
     y = Y[k]
     for p in range(model.ncp):
@@ -173,6 +177,15 @@ def _agrees(X, nodes, checks, W, ptol, pabs):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _all_agree(out, nodes, checks, W, ptol, pabs):
+    """`_agrees` for every array of the PostArrays `out`."""
+    for X in out:
+        if not _agrees(X, nodes, checks, W, ptol, pabs):
+            return False
+    return True
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _fill(X, nodes, done, W):
     """Interpolate the rows of X between nodes[0] and nodes[-1] not evaluated exactly."""
     nc = X.shape[1]
@@ -192,33 +205,7 @@ def _fill(X, nodes, done, W):
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
-def post_process(
-    model,
-    wk,
-    cs,
-    alpha,
-    beta,
-    solver,
-    ts,
-    Y,
-    CS,
-    n,
-    blk_row0,
-    blk_nrow,
-    blk_side,
-    blk_pt,
-    VD,
-    LAM,
-    PHI,
-    PHID,
-    EN,
-    RF,
-    RM,
-    COUT,
-    POUT,
-    ptol,
-    pabs,
-):
+def post_process(model, wk, cs, alpha, beta, solver, ts, Y, CS, n, blk, out, ptol, pabs):
     """Fill the first n rows of the output arrays (`evaluate`; 2-D, one row per sample):
     exactly at every sample if ptol <= 0, else exactly on verified windows' nodes and
     checks and interpolated between them (module docstring). Returns the number of exact
@@ -228,32 +215,7 @@ def post_process(
     nexact = 0
     if ptol <= 0.0:
         for k in range(n):
-            evaluate(
-                model,
-                wk,
-                cs,
-                alpha,
-                beta,
-                solver,
-                ts,
-                Y,
-                CS,
-                k,
-                blk_row0,
-                blk_nrow,
-                blk_side,
-                blk_pt,
-                yd,
-                VD,
-                LAM,
-                PHI,
-                PHID,
-                EN,
-                RF,
-                RM,
-                COUT,
-                POUT,
-            )
+            evaluate(model, wk, cs, alpha, beta, solver, ts, Y, CS, k, blk, yd, out)
         return n
     D = DEGREE
     nodes = np.empty(D + 1, dtype=np.int64)
@@ -273,32 +235,7 @@ def post_process(
             last = min(e, s + 2 * D)
             for k in range(s, last + 1):
                 if not done[k]:
-                    evaluate(
-                        model,
-                        wk,
-                        cs,
-                        alpha,
-                        beta,
-                        solver,
-                        ts,
-                        Y,
-                        CS,
-                        k,
-                        blk_row0,
-                        blk_nrow,
-                        blk_side,
-                        blk_pt,
-                        yd,
-                        VD,
-                        LAM,
-                        PHI,
-                        PHID,
-                        EN,
-                        RF,
-                        RM,
-                        COUT,
-                        POUT,
-                    )
+                    evaluate(model, wk, cs, alpha, beta, solver, ts, Y, CS, k, blk, yd, out)
                     done[k] = True
                     nexact += 1
             s = last + 1
@@ -310,59 +247,17 @@ def post_process(
         for j in range(2 * D + 1):
             k = nodes[j // 2] if j % 2 == 0 else checks[j // 2]
             if not done[k]:
-                evaluate(
-                    model,
-                    wk,
-                    cs,
-                    alpha,
-                    beta,
-                    solver,
-                    ts,
-                    Y,
-                    CS,
-                    k,
-                    blk_row0,
-                    blk_nrow,
-                    blk_side,
-                    blk_pt,
-                    yd,
-                    VD,
-                    LAM,
-                    PHI,
-                    PHID,
-                    EN,
-                    RF,
-                    RM,
-                    COUT,
-                    POUT,
-                )
+                evaluate(model, wk, cs, alpha, beta, solver, ts, Y, CS, k, blk, yd, out)
                 done[k] = True
                 nexact += 1
         for i in range(D):  # the checks' weights first: a failing window needs no more
             _weights(ts, nodes, ts[checks[i]], W[checks[i] - nodes[0]])
-        if (
-            _agrees(VD, nodes, checks, W, ptol, pabs)
-            and _agrees(LAM, nodes, checks, W, ptol, pabs)
-            and _agrees(PHI, nodes, checks, W, ptol, pabs)
-            and _agrees(PHID, nodes, checks, W, ptol, pabs)
-            and _agrees(EN, nodes, checks, W, ptol, pabs)
-            and _agrees(RF, nodes, checks, W, ptol, pabs)
-            and _agrees(RM, nodes, checks, W, ptol, pabs)
-            and _agrees(COUT, nodes, checks, W, ptol, pabs)
-            and _agrees(POUT, nodes, checks, W, ptol, pabs)
-        ):
+        if _all_agree(out, nodes, checks, W, ptol, pabs):
             for j in range(1, D * m):
                 if not done[nodes[0] + j]:
                     _weights(ts, nodes, ts[nodes[0] + j], W[j])
-            _fill(VD, nodes, done, W)
-            _fill(LAM, nodes, done, W)
-            _fill(PHI, nodes, done, W)
-            _fill(PHID, nodes, done, W)
-            _fill(EN, nodes, done, W)
-            _fill(RF, nodes, done, W)
-            _fill(RM, nodes, done, W)
-            _fill(COUT, nodes, done, W)
-            _fill(POUT, nodes, done, W)
+            for X in out:  # (a tuple of equal types: a plain loop)
+                _fill(X, nodes, done, W)
             s = nodes[D] if nodes[D] < e else e + 1  # (the last node starts the next window)
             m = min(2 * m, MAX_SPACING)
         else:

@@ -16,7 +16,7 @@ from clearance.contact.element import ContactState, make_contact_state
 from clearance.dynamics.rhs import make_work, rhs
 from clearance.integrate.buffers import prefaulted_copy, prefaulted_zeros
 from clearance.integrate.methods import METHODS, method_loop, resolve_method
-from clearance.integrate.post import post_process
+from clearance.integrate.post import Blocks, PostArrays, post_process
 from clearance.integrate.state import Options, Outputs
 from clearance.kinds import (
     CT_BUDGET,
@@ -566,19 +566,18 @@ def _build_result(
             Y,
             CS,
             n,
-            blk_row0,
-            blk_nrow,
-            blk_side,
-            blk_pt,
-            VD,
-            LAM,
-            PHI,
-            PHID,
-            EN,
-            RF.reshape(n, -1),  # (views: the kernel fills 2-D arrays, one row per sample)
-            RM.reshape(n, -1),
-            COUT.reshape(n, -1),
-            POUT.reshape(n, -1),
+            Blocks(blk_row0, blk_nrow, blk_side, blk_pt),
+            PostArrays(  # (2-D views: one row per sample)
+                VD,
+                LAM,
+                PHI,
+                PHID,
+                EN,
+                RF.reshape(n, -1),
+                RM.reshape(n, -1),
+                COUT.reshape(n, -1),
+                POUT.reshape(n, -1),
+            ),
             float(ptol),
             float(pabs),
         )
