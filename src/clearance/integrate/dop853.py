@@ -108,6 +108,8 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
     ctl = out.ctl
     y = out.ys
     K = out.ks
+    if K.shape[0] < P.shape[0]:
+        raise ValueError("dop853: out.ks needs a row per stage (loop_inputs(stages=16))")
     ynew = np.empty(ny)
     ytmp = np.empty(ny)
     w = np.empty(K.shape[0])
@@ -188,16 +190,11 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
             h = h / min(3.0, fac11 / safe)
             rejected = True
             continue
-        # accepted: stage 12 = f(t + h, y_new) (the next step's stage 0 unless y changes)
+        # passed: stage 12 = f(t + h, y_new) (the next step's stage 0 unless y changes); a
+        # failure here or in the dense stages rejects the step, as a stage of erk54 does
         st = rhs(t + h, ynew, model, wk, cs, alpha, beta, solver, K[_NS])
         stats[ST_NFEV] += 1
-        if st != 0:
-            return _SINGULAR, iout, t, nlog
-        facold = max(en, 1e-4)
-        stats[ST_NACC] += 1
-        stats[ST_HMIN] = min(stats[ST_HMIN], h)
-        stats[ST_HMAX] = max(stats[ST_HMAX], h)
-        if model.nclr > 0 or (iout < nout and t_out[iout] <= t + h):
+        if st == 0 and (model.nclr > 0 or (iout < nout and t_out[iout] <= t + h)):
             for a in range(cout.shape[0]):
                 for c in range(cout.shape[1]):
                     cout[a, c] = wk.cout[a, c]
@@ -206,10 +203,19 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
                 st = rhs(t + C[s] * h, ytmp, model, wk, cs, alpha, beta, solver, K[s])
                 stats[ST_NFEV] += 1
                 if st != 0:
-                    return _SINGULAR, iout, t, nlog
+                    break
             for a in range(cout.shape[0]):  # as if f(t + h, y_new) were the last evaluation
                 for c in range(cout.shape[1]):
                     wk.cout[a, c] = cout[a, c]
+        if st != 0:
+            stats[ST_NREJ] += 1
+            h *= 0.25
+            rejected = True
+            continue
+        facold = max(en, 1e-4)
+        stats[ST_NACC] += 1
+        stats[ST_HMIN] = min(stats[ST_HMIN], h)
+        stats[ST_HMAX] = max(stats[ST_HMAX], h)
         xev = 2.0
         if model.nclr > 0:
             xev, _ = locate_event(model, wk, cs, t, y, K, P, h, rtol)

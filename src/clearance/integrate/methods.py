@@ -33,7 +33,6 @@ class Method(NamedTuple):
     data: tuple  # method data passed to the loop before t0, y
     adaptive: bool
     stages: int = 7  # rows of the stage array the loop keeps (out.ks), dense output's included
-    order: int = 5
 
 
 _ERK54 = "clearance.integrate.erk:erk54"
@@ -41,14 +40,13 @@ _ERK54 = "clearance.integrate.erk:erk54"
 METHODS: dict[str, Method] = {
     "dopri5": Method(_ERK54, (DP5_A, DP5_C, DP5_E, DP5_P), True),  # Dormand & Prince 1980
     "tsit5": Method(_ERK54, (TS5_A, TS5_C, TS5_E, TS5_P), True),  # Tsitouras 2011
-    "rk4": Method("clearance.integrate.rk4:rk4", (), False, order=4),  # classical, fixed step
+    "rk4": Method("clearance.integrate.rk4:rk4", (), False),  # classical, fixed step
     # Dormand & Prince 8(5,3) with Hairer's 7th-order dense output (dop853.f)
     "dop853": Method(
         "clearance.integrate.dop853:dop853",
         (_d8.A, _d8.C, _d8.B, _d8.E3, _d8.E5, _d8.P),
         True,
         stages=_d8.N_STAGES_EXTENDED,
-        order=8,
     ),
 }
 

@@ -76,4 +76,4 @@ class Outputs(NamedTuple):
     PK: np.ndarray  # (nclr, 4) largest F_N, its time, largest delta, its time
     ctl: np.ndarray  # (kinds.NCTL,) the step budget of a call, the loop's scalars between calls
     ys: np.ndarray  # (ny,) the loop's current state, kept between calls
-    ks: np.ndarray  # (7, ny) erk54's stages, kept between calls (FSAL: ks[0] = f(t, ys))
+    ks: np.ndarray  # (stages, ny) the method's stages, kept between calls (FSAL: ks[0] = f(t, ys))
