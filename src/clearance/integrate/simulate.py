@@ -186,8 +186,9 @@ def simulate(
     What is derived from the states at the samples (accelerations, multipliers, violations,
     energies, reactions, clearance diagnostics) is evaluated exactly on a subset of the
     samples and interpolated in between where the interpolant is verified to agree with the
-    exact values within post_tol |x| + atol (default post_tol: rtol; 0: every sample
-    evaluated exactly; `clearance.integrate.post`). `stats["post_exact"]` counts the exact
+    exact values within post_tol |x| + atol (default post_tol: rtol; the constraint
+    violations phi, phi_dot: within their own size; 0: every sample evaluated exactly;
+    `clearance.integrate.post`). `stats["post_exact"]` counts the exact
     evaluations.
     """
     c = system if isinstance(system, Compiled) else compile_mechanism(system)
