@@ -101,12 +101,19 @@ class PostArrays(NamedTuple):
 def evaluate(model, wk, cs, alpha, beta, solver, ts, Y, CS, k, blk, yd, out):
     """Fill row k of the PostArrays `out` from sample k: the reaction force and moment
     (world, about the joint point) of each block on its reporting body, the rest as named
-    there. cs: scratch for the sample's contact state, taken from CS; yd: scratch (ny,)."""
+    there. cs: scratch for the sample's contact state, taken from CS; yd: scratch (ny,).
+    A sample whose state is not finite gets NaN everywhere (not what the kernels leave in
+    their scratch from the previous sample)."""
     VD, LAM, PHI, PHID, EN = out.VD, out.LAM, out.PHI, out.PHID, out.EN
     RF, RM, COUT, POUT = out.RF, out.RM, out.COUT, out.POUT
     blk_row0, blk_nrow, blk_side, blk_pt = blk.row0, blk.nrow, blk.side, blk.pt
     nb = model.nb
     y = Y[k]
+    if not _finite_rows(Y, k, k):
+        for X in out:
+            for c in range(X.shape[1]):
+                X[k, c] = np.nan
+        return
     for p in range(model.ncp):
         cs.flag[p] = int(CS[k, p, 0])
         cs.ddm[p] = CS[k, p, 1]
