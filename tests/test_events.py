@@ -14,6 +14,7 @@ from clearance.dynamics.rhs import make_work
 from clearance.integrate.events import locate_event
 from clearance.integrate.tableau import DP5_P, TS5_P
 from clearance.integrate.tableau_dop853 import P as D8_P
+from clearance.integrate.tableau_vern7 import P as V7_P
 
 C, RB, H = 1e-4, 0.01, 1e-3  # clearance, ball radius [m], step [s]
 
@@ -63,7 +64,9 @@ def bump(peak: float, x0: float = 0.1, q: float = 1e-6) -> np.ndarray:
     return np.array([C + peak - q * x0 * x0, 2 * q * x0, -q, 0.0, 0.0])
 
 
-@pytest.mark.parametrize("P", [DP5_P, TS5_P, D8_P], ids=["dopri5", "tsit5", "dop853"])
+@pytest.mark.parametrize(
+    "P", [DP5_P, TS5_P, D8_P, V7_P], ids=["dopri5", "tsit5", "dop853", "vern7"]
+)
 def test_a_graze_between_probes_is_found_at_its_crossing(P):
     """The gap rises to +1e-9 m at x = 0.1 and falls back, every probe (x = 0, 1/4, ...,
     1) below zero: the onset is found at the first root, x = 0.1 - sqrt(1e-9 / 1e-6)."""

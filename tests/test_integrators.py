@@ -222,7 +222,7 @@ def test_euler_parameters_stay_unit(method):
     assert np.max(np.abs(norms - 1.0)) < 1e-14
 
 
-@pytest.mark.parametrize("method", ["dopri5", "tsit5", "dop853"])
+@pytest.mark.parametrize("method", ["dopri5", "tsit5", "dop853", "vern7"])
 def test_contact_events_converge_with_rtol(method):
     """Onsets and separations are located to a time within rtol times the step (not only
     to a penetration of 1e-3 c): the eccentricity error against an rtol 1e-12 run falls

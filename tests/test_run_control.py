@@ -52,11 +52,12 @@ KW = {
     "dopri5": dict(rtol=1e-7, atol=1e-10),
     "tsit5": dict(rtol=1e-7, atol=1e-10),
     "dop853": dict(rtol=1e-7, atol=1e-10),
+    "vern7": dict(rtol=1e-7, atol=1e-10),
     "rk4": dict(step=2e-6),
 }
 
 
-@pytest.mark.parametrize("method", ["dopri5", "tsit5", "dop853", "rk4"])
+@pytest.mark.parametrize("method", ["dopri5", "tsit5", "dop853", "vern7", "rk4"])
 def test_a_run_in_one_step_slices_is_the_same_run(comp, method, monkeypatch):
     """Slices of one step each (the budget's floor) against one call for the whole run:
     every array identical, events and step statistics included."""

@@ -15,7 +15,7 @@ from numba import njit
 
 from clearance.dynamics.rhs import rhs
 from clearance.integrate.accept import after_step, returned, sample, start, track_peaks
-from clearance.integrate.events import interpolate, locate_event
+from clearance.integrate.events import interpolate, locate_event, refine_peaks
 from clearance.kinds import (
     CT_BUDGET,
     CT_FACOLD,
@@ -119,6 +119,7 @@ def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
     ytmp = np.empty(ny)
     err = np.empty(ny)
     w = np.empty(K.shape[0])  # dense-output weights
+    cout = np.empty_like(wk.cout)  # scratch of refine_peaks
     t_end = t_out[-1]
     nout = t_out.shape[0]
     # PI controller constants (DOPRI5's, used for both pairs): expo1 = 0.2 - 0.75 beta_pi
@@ -211,6 +212,23 @@ def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
             xev = 2.0
             if model.nclr > 0:
                 xev, _ = locate_event(model, wk, cs, t, y, K, P, h, rtol)
+                refine_peaks(
+                    model,
+                    wk,
+                    cs,
+                    opts,
+                    t,
+                    y,
+                    K,
+                    P,
+                    h,
+                    min(xev, 1.0),
+                    out.PK,
+                    stats,
+                    ytmp,
+                    err,
+                    cout,
+                )
             if xev <= 1.0:
                 interpolate(y, K, P, h, xev, ynew, w)
                 tnew = t + xev * h

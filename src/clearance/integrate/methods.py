@@ -3,11 +3,12 @@
 Each entry is a `Method`: its compiled loop, named "module:function" (so that reading this
 table stays free of numba; the package imports every loop at its own import, while the
 source-keyed kernel cache is set: `clearance._kernel_cache`), the loop's method data (the
-erk54 loop takes a 7-stage FSAL 5(4) tableau of tableau.py; rk4 none) and whether it is
-adaptive (error control and dense output: rtol / atol steer it and contact events are
-located). Every loop is called `loop(model, wk, cs, opts, out, *data, t0, y)` (the
-contract: state.py). A new 7-stage FSAL pair is its tableau plus one line here; another
-method is its loop module plus one line here.
+erk54 loop takes a 7-stage FSAL 5(4) tableau of tableau.py, erk_high a high-order pair with
+its dense output's extra stages and its order; rk4 none) and whether it is adaptive (error
+control and dense output: rtol / atol steer it and contact events are located). Every loop
+is called `loop(model, wk, cs, opts, out, *data, t0, y)` (the contract: state.py). A new
+7-stage FSAL pair is its tableau plus one line here, as is a high-order pair of at most 16
+stages; another method is its loop module plus one line here.
 """
 
 from __future__ import annotations
@@ -15,7 +16,10 @@ from __future__ import annotations
 import importlib
 from typing import NamedTuple
 
+import numpy as np
+
 from clearance.integrate import tableau_dop853 as _d8
+from clearance.integrate import tableau_vern7 as _v7
 from clearance.integrate.tableau import (
     DP5_A,
     DP5_C,
@@ -36,6 +40,7 @@ class Method(NamedTuple):
 
 
 _ERK54 = "clearance.integrate.erk:erk54"
+_HIGH = "clearance.integrate.erk_high:erk_high"
 
 METHODS: dict[str, Method] = {
     "dopri5": Method(_ERK54, (DP5_A, DP5_C, DP5_E, DP5_P), True),  # Dormand & Prince 1980
@@ -43,10 +48,17 @@ METHODS: dict[str, Method] = {
     "rk4": Method("clearance.integrate.rk4:rk4", (), False),  # classical, fixed step
     # Dormand & Prince 8(5,3) with Hairer's 7th-order dense output (dop853.f)
     "dop853": Method(
-        "clearance.integrate.dop853:dop853",
-        (_d8.A, _d8.C, _d8.B, _d8.E3, _d8.E5, _d8.P),
+        _HIGH,
+        (_d8.A, _d8.C, _d8.B, _d8.E3, _d8.E5, _d8.P, 8.0),
         True,
         stages=_d8.N_STAGES_EXTENDED,
+    ),
+    # Verner's 7(6) "most efficient" pair with its 7th-order interpolant
+    "vern7": Method(
+        _HIGH,
+        (_v7.A, _v7.C, _v7.B, np.zeros(0), _v7.E, _v7.P, 7.0),
+        True,
+        stages=_v7.N_STAGES_EXTENDED,
     ),
 }
 

@@ -163,7 +163,8 @@ def simulate(
     """Simulate a mechanism from t_start to t_end.
 
     Output at `t_out`, or every `dt_out` (default: 201 samples). method: "tsit5" (Tsitouras
-    5(4)), "dopri5" (Dormand-Prince 5(4)) or "dop853" (Dormand-Prince 8(5,3)), adaptive
+    5(4)), "dopri5" (Dormand-Prince 5(4)), "dop853" (Dormand-Prince 8(5,3)) or "vern7"
+    (Verner 7(6)), adaptive
     (rtol/atol, first_step, max_step, min_step, max_steps) with dense output; "auto" (the
     default): tsit5 for rtol >= 1e-10, dop853 below (`methods.AUTO_RTOL`;
     settings["method"] says which ran); or "rk4" (fixed `step`).

@@ -308,8 +308,8 @@ CLEARANCE_KINDS: Mapping[str, ClearanceKindSpec] = {
 
 SOLVER_FIELDS = {
     "method": Field("choice", "dopri5", doc="integrator", choices=_ENUMS["method"]),
-    "rtol": Field("positive", 1e-6, doc="relative tolerance (dopri5, tsit5, dop853)"),
-    "atol": Field("positive", 1e-9, doc="absolute tolerance (dopri5, tsit5, dop853)"),
+    "rtol": Field("positive", 1e-6, doc="relative tolerance (dopri5, tsit5, dop853, vern7)"),
+    "atol": Field("positive", 1e-9, doc="absolute tolerance (dopri5, tsit5, dop853, vern7)"),
     "first_step": Field("nonneg", 0.0, "s", "first step (0: automatic)"),
     "max_step": Field("positive_inf", math.inf, "s", "largest step (inf: no limit)"),
     "min_step": Field("positive", 1e-14, "s", "smallest step before failure"),

@@ -1,15 +1,20 @@
-"""DOP853 (Dormand & Prince 8(5,3), Hairer's dop853.f) in a compiled loop (the contract:
-state.py): for tight tolerances, where an 8th-order method takes far fewer steps than the
-5(4) pairs of `erk.erk54`.
+"""The high-order explicit pairs, DOP853 and Vern7, in one compiled loop (the contract:
+state.py): for tight tolerances, where they take far fewer steps than the 5(4) pairs of
+`erk.erk54`. Both have a stage at the new solution (f(t + h, y_new): the next step's stage
+0) and a 7th-order dense output that needs more stages, evaluated only for a step that has
+output samples or clearance joints whose contact events are searched on it.
 
-Per step: 12 stages, the 8th-order solution, then f(t + h, y_new) (first same as last:
-stage 12, the next step's stage 0). The error estimate is dop853.f's: the 5th- and
-3rd-order embedded differences err5, err3 (scaled like erk54's norm),
-err = |h| |err5|^2 / sqrt(n (|err5|^2 + 0.01 |err3|^2)); step control as in dop853.f
-(exponent 1/8, no PI term, safety 0.9, a new step between 1/3 and 6 times the old one).
-The 7th-order dense output needs three more stages (13..15); they are evaluated only for a
-step that has output samples or clearance joints whose contact events are searched on it,
-so a step costs 12 right-hand sides, or 15 with the dense output (tableau_dop853.py).
+* dop853 (Dormand & Prince 8(5,3), Hairer's dop853.f; tableau_dop853.py): 12 stages and
+  f(t + h, y_new) per step, 3 more for the dense output (15). Error estimate dop853.f's:
+  the 5th- and 3rd-order embedded differences err5, err3 (scaled like erk54's norm),
+  err = |h| |err5|^2 / sqrt(n (|err5|^2 + 0.01 |err3|^2)), exponent 1/8.
+* vern7 (Verner's 7(6) "most efficient" pair; tableau_vern7.py): 9 new stages and
+  f(t + h, y_new) per step (10), 5 more for the interpolant (15). Error estimate erk54's
+  norm of h sum_k E_k K_k, exponent 1/7.
+
+Step control as in dop853.f for both (safety 0.9, no PI term, a new step between 1/3 and 6
+times the old one). The method data: (A, C, B, E3, E5, P, order); E3 empty selects the
+plain norm of E5.
 """
 
 from __future__ import annotations
@@ -22,7 +27,7 @@ from numba import njit
 from clearance.dynamics.rhs import rhs
 from clearance.integrate.accept import after_step, returned, sample, start, track_peaks
 from clearance.integrate.erk import initial_step
-from clearance.integrate.events import interpolate, locate_event
+from clearance.integrate.events import interpolate, locate_event, refine_peaks
 from clearance.kinds import (
     CT_BUDGET,
     CT_FACOLD,
@@ -49,8 +54,6 @@ _STEP_UNDERFLOW = int(Status.STEP_UNDERFLOW)
 _MAX_STEPS = int(Status.MAX_STEPS)
 _PAUSED = int(Status.PAUSED)
 
-_NS = 12  # stages of a step (0..11); stage 12 is f(t + h, y_new), 13..15 the dense output's
-
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _stage(A, K, s, y, h, ytmp):
@@ -69,36 +72,44 @@ def _stage(A, K, s, y, h, ytmp):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def _err_norm(K, E3, E5, y, ynew, n, h, rtol, atol):
-    """dop853.f's error norm of the step (scaled by atol + rtol max(|y|, |y_new|))."""
+def _err_norm(K, E3, E5, ns, y, ynew, n, h, rtol, atol):
+    """The error norm of a step over its ns stages (scaled by atol + rtol max(|y|,
+    |y_new|)): dop853.f's from E5 and E3, or, with E3 empty, erk54's RMS norm of
+    h sum_k E5[k] K[k]."""
     e5 = 0.0
     e3 = 0.0
+    both = E3.shape[0] > 0
     for i in range(n):
         sc = atol + rtol * max(abs(y[i]), abs(ynew[i]))
         a5 = 0.0
         a3 = 0.0
-        for k in range(_NS):
+        for k in range(ns):
             a5 += E5[k] * K[k, i]
-            a3 += E3[k] * K[k, i]
+            if both:
+                a3 += E3[k] * K[k, i]
         e5 += (a5 / sc) ** 2
         e3 += (a3 / sc) ** 2
+    if not both:
+        return abs(h) * math.sqrt(e5 / n)
     if e5 == 0.0 and e3 == 0.0:
         return 0.0
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
-def dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
+def erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
     """Integrate from (t0, y0), writing the samples at out.t_out (contract: state.py);
-    see `_dop853`. Returns (status, outputs written, last time, events), also kept in
+    see `_erk_high`. Returns (status, outputs written, last time, events), also kept in
     out.ctl (kinds.CT_STATUS)."""
-    st, iout, t, nlog = _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0)
+    st, iout, t, nlog = _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0)
     return returned(out.ctl, st, iout, t, nlog)
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
-def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
-    """The loop (module docstring); out.ks holds the 16 stages between calls."""
+def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
+    """The loop (module docstring): B has the ns stages of a step, stage ns is
+    f(t + h, y_new), ns + 1 .. P.shape[0] - 1 the dense output's; out.ks holds them all
+    between calls. order: the error estimate's (its exponent 1 / order; the first step's)."""
     ny = y0.shape[0]
     nerr = model.y_iw  # the work integrals do not steer the step size
     alpha, beta, solver = opts.alpha, opts.beta, opts.solver
@@ -109,14 +120,16 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
     y = out.ys
     K = out.ks
     if K.shape[0] < P.shape[0]:
-        raise ValueError("dop853: out.ks needs a row per stage (loop_inputs(stages=16))")
+        raise ValueError("erk_high: out.ks needs a row per stage (loop_inputs(stages=16))")
+    ns = B.shape[0]
     ynew = np.empty(ny)
     ytmp = np.empty(ny)
     w = np.empty(K.shape[0])
-    cout = np.empty_like(wk.cout)  # f(t + h, y_new)'s diagnostics, for track_peaks
+    cout = np.empty_like(wk.cout)  # f(t + h, y_new)'s diagnostics; refine_peaks' scratch
+    yd2 = np.empty(ny)  # refine_peaks' scratch
     t_end = t_out[-1]
     nout = t_out.shape[0]
-    expo1 = 1.0 / 8.0
+    expo1 = 1.0 / order
     safe = 0.9
     if ctl[CT_STARTED] != 0.0:
         t, h, facold = ctl[CT_T], ctl[CT_H], ctl[CT_FACOLD]
@@ -134,7 +147,7 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
         if st != 0:
             return _SINGULAR, iout, t, nlog
         track_peaks(wk, t, out.PK, np.bool_(True))
-        h = initial_step(model, wk, cs, opts, stats, t, y, K[0], K[1], ytmp, t_end - t0, 8.0)
+        h = initial_step(model, wk, cs, opts, stats, t, y, K[0], K[1], ytmp, t_end - t0, order)
         facold = 1e-4
         rejected = False
         nsteps = 0
@@ -154,7 +167,7 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
         if t + 1.01 * h >= t_end:
             h = t_end - t
         bad = False
-        for s in range(1, _NS):
+        for s in range(1, ns):
             _stage(A, K, s, y, h, ytmp)
             st = rhs(t + C[s] * h, ytmp, model, wk, cs, alpha, beta, solver, K[s])
             stats[ST_NFEV] += 1
@@ -167,14 +180,14 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
             b = B[0]
             for i in range(ny):
                 ynew[i] = b * K[0, i]
-            for k in range(1, _NS):
+            for k in range(1, ns):
                 b = B[k]
                 if b != 0.0:
                     for i in range(ny):
                         ynew[i] += b * K[k, i]
             for i in range(ny):
                 ynew[i] = y[i] + h * ynew[i]
-            en = _err_norm(K, E3, E5, y, ynew, nerr, h, rtol, atol)
+            en = _err_norm(K, E3, E5, ns, y, ynew, nerr, h, rtol, atol)
             if not np.isfinite(en):
                 bad = True
         if bad:
@@ -190,15 +203,15 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
             h = h / min(3.0, fac11 / safe)
             rejected = True
             continue
-        # passed: stage 12 = f(t + h, y_new) (the next step's stage 0 unless y changes); a
+        # passed: stage ns = f(t + h, y_new) (the next step's stage 0 unless y changes); a
         # failure here or in the dense stages rejects the step, as a stage of erk54 does
-        st = rhs(t + h, ynew, model, wk, cs, alpha, beta, solver, K[_NS])
+        st = rhs(t + h, ynew, model, wk, cs, alpha, beta, solver, K[ns])
         stats[ST_NFEV] += 1
         if st == 0 and (model.nclr > 0 or (iout < nout and t_out[iout] <= t + h)):
             for a in range(cout.shape[0]):
                 for c in range(cout.shape[1]):
                     cout[a, c] = wk.cout[a, c]
-            for s in range(_NS + 1, K.shape[0]):  # the dense output's extra stages
+            for s in range(ns + 1, P.shape[0]):  # the dense output's extra stages
                 _stage(A, K, s, y, h, ytmp)
                 st = rhs(t + C[s] * h, ytmp, model, wk, cs, alpha, beta, solver, K[s])
                 stats[ST_NFEV] += 1
@@ -219,6 +232,9 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
         xev = 2.0
         if model.nclr > 0:
             xev, _ = locate_event(model, wk, cs, t, y, K, P, h, rtol)
+            refine_peaks(
+                model, wk, cs, opts, t, y, K, P, h, min(xev, 1.0), out.PK, stats, ytmp, yd2, cout
+            )
         if xev <= 1.0:
             interpolate(y, K, P, h, xev, ynew, w)
             tnew = t + xev * h
@@ -233,7 +249,7 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
         t = tnew
         for i in range(ny):
             y[i] = ynew[i]
-        st, changed, nlog = after_step(model, wk, cs, opts, out, t, y, K[_NS], nlog, xev <= 1.0)
+        st, changed, nlog = after_step(model, wk, cs, opts, out, t, y, K[ns], nlog, xev <= 1.0)
         if st != _SUCCESS:
             return st, iout, t, nlog
         if changed:
@@ -243,7 +259,7 @@ def _dop853(model, wk, cs, opts, out, A, C, B, E3, E5, P, t0, y0):
                 return _SINGULAR, iout, t, nlog
         else:
             for i in range(ny):
-                K[0, i] = K[_NS, i]
+                K[0, i] = K[ns, i]
         track_peaks(wk, t, out.PK, np.bool_(False))
         if rejected:
             hnew = min(hnew, h)
