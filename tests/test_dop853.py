@@ -201,10 +201,10 @@ def test_global_error_proportional_to_tolerance(compiled, reference):
 
 # ---------------------------------------------------------------------------- "auto"
 @pytest.mark.parametrize(
-    ("rtol", "expected"), [(1e-6, "tsit5"), (1e-10, "tsit5"), (1e-11, "dop853")]
+    ("rtol", "expected"), [(1e-6, "tsit5"), (1e-10, "tsit5"), (1e-11, "vern7")]
 )
 def test_auto_picks_the_method_by_tolerance(compiled, rtol, expected):
-    """The default method "auto": tsit5 down to rtol 1e-10 (methods.AUTO_RTOL), dop853
+    """The default method "auto": tsit5 down to rtol 1e-10 (methods.AUTO_RTOL), vern7
     below; the result says which ran and what was asked."""
     r = cl.simulate(compiled, 0.05, rtol=rtol, atol=rtol * 1e-2)
     assert r.success

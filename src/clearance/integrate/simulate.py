@@ -166,7 +166,7 @@ def simulate(
     5(4)), "dopri5" (Dormand-Prince 5(4)), "dop853" (Dormand-Prince 8(5,3)) or "vern7"
     (Verner 7(6)), adaptive
     (rtol/atol, first_step, max_step, min_step, max_steps) with dense output; "auto" (the
-    default): tsit5 for rtol >= 1e-10, dop853 below (`methods.AUTO_RTOL`;
+    default): tsit5 for rtol >= 1e-10, vern7 below (`methods.AUTO_RTOL`;
     settings["method"] says which ran); or "rk4" (fixed `step`).
     baumgarte: (alpha, beta) [1/s]; solver: "auto" (Schur; least squares if the constraints
     are redundant), "schur", "dense", "lstsq"; projection: mass-weighted coordinate
