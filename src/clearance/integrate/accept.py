@@ -128,7 +128,7 @@ def start(model, wk, cs, opts, out, t0, y):
             return _SINGULAR, 0, 0
     nlog = np.int64(0)
     if model.nclr > 0:
-        _, nlog = update_contacts(model, wk, cs, t0, y, out.log, nlog)
+        _, nlog = update_contacts(model, wk, cs, t0, y, out.log, nlog, np.bool_(False))
     iout = 0
     while iout < out.t_out.shape[0] and out.t_out[iout] <= t0:
         out.Y[iout, :] = y
@@ -163,7 +163,7 @@ def after_step(model, wk, cs, opts, out, t, y, kfsal, nlog, cut):
         return _NONFINITE, False, nlog
     changed = cut
     if model.nclr > 0:
-        ch, nlog = update_contacts(model, wk, cs, t, y, out.log, nlog)
+        ch, nlog = update_contacts(model, wk, cs, t, y, out.log, nlog, cut)
         changed = changed or ch
     normalise_quaternions(model, y, kfsal)
     if opts.proj_tol > 0.0:

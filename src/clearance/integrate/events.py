@@ -432,10 +432,15 @@ def refine_peaks(model, wk, cs, opts, t, y, K, P, h, xend, PK, stats, ys, yds, c
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def update_contacts(model, wk, cs, t, y, log, nlog):
+def update_contacts(model, wk, cs, t, y, log, nlog, located):
     """Discrete update at an accepted state: an onset latches delta_dot_minus (floored) and
-    sets the flag, a separation clears it; both zero the LuGre bristles; LuGre bristles of
+    sets the flag, a separation clears it and zeroes the LuGre bristles; LuGre bristles of
     points in contact are kept in the tangent plane (h.4). Returns (changed, nlog).
+
+    located: the state is a step cut at a located event. An onset there zeroes the LuGre
+    bristles too (see below); elsewhere (the start of a run, rk4's steps, SciPy's
+    `latch_contacts`: onsets seen up to a step late) z is kept: it is y0's, or what the
+    contact built up since it began.
 
     changed is True if y or the discrete state changed (the FSAL stage is then invalid).
     """
@@ -464,9 +469,10 @@ def update_contacts(model, wk, cs, t, y, log, nlog):
                     # onset interpolates z from stages beyond it, where z_dot = v_t already
                     # acts (up to ~1e-7 m against z ~ 1e-6 m), which made the default
                     # scenario's early error erratic in rtol
-                    y[zi] = 0.0
-                    y[zi + 1] = 0.0
-                    y[zi + 2] = 0.0
+                    if located:
+                        y[zi] = 0.0
+                        y[zi + 1] = 0.0
+                        y[zi + 2] = 0.0
                     kind = 1.0
                 else:
                     cs.flag[p] = 0

@@ -129,7 +129,7 @@ def latch_contacts(c: Compiled, cs: ContactState, t: float, y: np.ndarray) -> bo
     from clearance.integrate.events import update_contacts
 
     log = np.zeros((0, NLOG))
-    changed, _ = update_contacts(c.model, make_work(c.model), cs, float(t), y, log, 0)
+    changed, _ = update_contacts(c.model, make_work(c.model), cs, float(t), y, log, 0, False)
     return bool(changed)
 
 
