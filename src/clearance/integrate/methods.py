@@ -68,10 +68,12 @@ ADAPTIVE = tuple(name for name, m in METHODS.items() if m.adaptive)
 #: "auto" takes tsit5 for rtol >= AUTO_RTOL and vern7 below (bench/README.md, work-precision:
 #: at a given rtol from 1e-5 to 1e-10 tsit5 costs the least on every case, clearance or
 #: ideal: contact oscillations and impacts limit the step, and 20 001 samples weigh more than
-#: the steps; the higher orders deliver more accuracy than asked at more cost. Below 1e-10,
-#: vern7: at rtol 1e-10 it is 2.5-4x more accurate than dop853 on the rattling 4UPS-UPU cases
-#: at equal cost, and dop853's forces on the ideal one stall at ~5e-8 N (its dense output
-#: in long steps) where vern7's reach 1e-9 N; dop853 stays best on smooth persistent contact)
+#: the steps; the higher orders deliver more accuracy than asked at more cost. Below 1e-10
+#: no method wins everywhere (dop853 on smooth persistent contact and at 1e-12 on the
+#: frictionless rattling case, vern7 per rtol at 1e-11 there, tsit5 for the ideal
+#: mechanism's forces); vern7 for robustness: never worse than ~2x the best there, while
+#: dop853's forces on the ideal mechanism stall at ~5e-8 N (its dense output in long steps)
+#: where vern7's reach 1e-9 N)
 AUTO_RTOL = 1e-10
 
 
