@@ -201,6 +201,27 @@ def _slope(x, err) -> float:
     return float(np.polyfit(np.log(x), np.log(err), 1)[0])
 
 
+def fixed_step_errors(compiled, reference, method, h):
+    """A run of `method` at the fixed step h (rtol = atol = 1e3 accept every step;
+    first_step = max_step = h) sampled at T_INNER: (its stats, the error at T_END, the
+    largest at the samples inside). Shared by the fixed-step order tests of the pairs."""
+    r = cl.simulate(
+        compiled,
+        T_END,
+        t_out=T_INNER,
+        method=method,
+        rtol=1e3,
+        atol=1e3,
+        first_step=h,
+        max_step=h,
+    )
+    assert r.success, r.message
+    st = r.stats
+    assert st["nreject"] == 0 and st["naccept"] == round(T_END / h)
+    own = np.hstack([r.q, r.v])
+    return st, np.max(np.abs(own[-1] - reference[-1])), np.max(np.abs(own[:-1] - reference[:-1]))
+
+
 def test_tsit5_order_five_at_fixed_steps(compiled, reference):
     """rtol = atol = 1e3 accepts every step; first_step = max_step = h fixes the step.
     Measured (h = 0.02 .. 0.0025): final state 4.9e-7, 9.2e-9, 1.9e-10, 4.3e-12, pairwise
@@ -209,27 +230,13 @@ def test_tsit5_order_five_at_fixed_steps(compiled, reference):
     global error): max 1.8e-6, 7.0e-8, 1.7e-9, 2.8e-11, pairwise 4.71, 5.37, 5.94 (the worst
     sample moves between h), fitted slope 5.34 (DOPRI5: 4.27, 6.09, 4.69, fit 5.12). The
     reference's error is ~1e-13 (vs DOP853 at rtol 3e-14)."""
-    c = compiled
     hs = np.array([0.02, 0.01, 0.005, 0.0025])
     err_end, err_inner = [], []
     for h in hs:
-        r = cl.simulate(
-            c,
-            T_END,
-            t_out=T_INNER,
-            method="tsit5",
-            rtol=1e3,
-            atol=1e3,
-            first_step=h,
-            max_step=h,
-        )
-        assert r.success, r.message
-        st = r.stats
-        assert st["nreject"] == 0 and st["naccept"] == round(T_END / h)
+        st, e_end, e_inner = fixed_step_errors(compiled, reference, "tsit5", h)
         assert st["nfev"] == 6 * st["naccept"] + 1  # FSAL: 6 new stages per step
-        own = np.hstack([r.q, r.v])
-        err_end.append(np.max(np.abs(own[-1] - reference[-1])))
-        err_inner.append(np.max(np.abs(own[:-1] - reference[:-1])))
+        err_end.append(e_end)
+        err_inner.append(e_inner)
     err_end, err_inner = np.array(err_end), np.array(err_inner)
     for err in (err_end, err_inner):
         assert err[-1] > 1e-12 and np.all(np.diff(err) < 0)  # above the reference error
