@@ -206,12 +206,15 @@ class Result:
 
     def peak_contact_force(self, name: str) -> tuple[float, float]:
         """(F_N, t): the largest normal contact force [N] and its time [s], over the accepted
-        integration steps as well as the samples (an impact can be shorter than dt_out)."""
+        integration steps as well as the samples (an impact can be shorter than dt_out),
+        and, with the adaptive methods, where the penetration peaks between two steps (the
+        force's own peak for elastic laws; damped ones peak a little earlier)."""
         return self._peak(name, 0, CO_FN)
 
     def peak_penetration(self, name: str) -> tuple[float, float]:
         """(delta, t): the largest penetration [m] (negative if never in contact) and its
-        time, over the accepted steps and the samples."""
+        time, over the accepted steps and the samples; with the adaptive methods, the
+        maximum between two steps is found on the dense output."""
         return self._peak(name, 2, CO_DELTA)
 
     def in_contact(self, name: str) -> np.ndarray:
