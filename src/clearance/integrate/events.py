@@ -34,8 +34,10 @@ import numpy as np
 from numba import njit
 
 from clearance.contact.element import eccentricity, gap_of, point_contact, point_gap
+from clearance.contact.laws import normal_force
 from clearance.dynamics.rhs import rhs
 from clearance.kinds import (
+    CG_C,
     CG_VFLOOR,
     CI_BB,
     CI_BS,
@@ -43,7 +45,9 @@ from clearance.kinds import (
     CI_NP,
     CI_P0,
     PG_TOL,
+    PG_W,
     PI_FRIC,
+    PI_LAW,
     ST_NFEV,
     FrictionLaw,
 )
@@ -327,6 +331,30 @@ def _lagrange_table(n_sample: int, n_graze: int) -> np.ndarray:
 
 
 _LAGRANGE = _lagrange_table(_NSAMPLE, _NGRAZE)  # (a compile-time constant of _graze)
+
+
+def _dlagrange_table(n_sample: int, n_graze: int) -> np.ndarray:
+    """dL[i, j]: d/dx of the Lagrange basis polynomial of probe j at x = i / (n_sample
+    n_graze) (x in steps)."""
+    n = n_sample * n_graze
+    out = np.zeros((n + 1, n_sample + 1))
+    for i in range(n + 1):
+        x = i / n
+        for j in range(n_sample + 1):
+            tot = 0.0
+            for m in range(n_sample + 1):
+                if m == j:
+                    continue
+                w = n_sample / (j - m)
+                for l in range(n_sample + 1):
+                    if l != j and l != m:
+                        w *= (n_sample * x - l) / (j - l)
+                tot += w
+            out[i, j] = tot
+    return out
+
+
+_DLAGRANGE = _dlagrange_table(_NSAMPLE, _NGRAZE)
 # the quartic's slope (times a positive factor) at x = 0 and x = 1 from the 5 probes
 _SLOPE0 = np.array([-25.0, 48.0, -36.0, 16.0, -3.0])
 _SLOPE1 = np.array([3.0, -16.0, 36.0, -48.0, 25.0])
@@ -335,6 +363,9 @@ _SLOPE1 = np.array([3.0, -16.0, 36.0, -48.0, 25.0])
 # intervals (1/16 of the step), shrinks to 6e-7 of the step
 _NPEAK = 24
 _GOLD = 0.6180339887498949  # (sqrt(5) - 1) / 2
+# golden-section iterations of the force's peak: its bracket (1/16 of the step) shrinks to
+# 2e-5 of the step
+_NFORCE = 18
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -346,6 +377,98 @@ def _dot5(a, b):
 def _gap_on_step(model, wk, k, p, t, y, K, P, h, x):
     _place(model, wk, k, t, y, K, P, h, x)
     return gap_of(model, p, wk.bA, wk.br, wk.fval)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _f_on_step(model, wk, cs, opts, t, y, K, P, h, x, ys, yds, stats):
+    """f at t + x h on the dense output (unit quaternions, as at the samples), for its
+    diagnostics wk.cout; False if the constrained solve failed. Counted in stats."""
+    interpolate(y, K, P, h, x, ys, wk.dw)
+    for bd in range(model.nb):
+        q = 7 * bd + 3
+        nq = math.sqrt(ys[q] ** 2 + ys[q + 1] ** 2 + ys[q + 2] ** 2 + ys[q + 3] ** 2)
+        for i in range(4):
+            ys[q + i] /= nq
+    stats[ST_NFEV] += 1
+    return rhs(t + x * h, ys, model, wk, cs, opts.alpha, opts.beta, opts.solver, yds) == 0
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _fn_on_step(model, wk, cs, opts, k, t, y, K, P, h, x, ys, yds, stats):
+    """Joint k's contact force F_N at t + x h on the dense output (-inf if f failed)."""
+    if _f_on_step(model, wk, cs, opts, t, y, K, P, h, x, ys, yds, stats):
+        return wk.cout[k, CO_FN]
+    return -np.inf
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _fn_estimate(model, cs, k, d, i, h):
+    """Joint k's F_N at quartic point i from the gap quartics of its points and their
+    slopes (the approach velocity), through each point's normal law."""
+    F = 0.0
+    for p in range(model.clr_ix[k, CI_P0], model.clr_ix[k, CI_P0] + model.clr_ix[k, CI_NP]):
+        q = 0.0
+        r = 0.0
+        for j in range(_NSAMPLE + 1):
+            q += _LAGRANGE[i, j] * d[p, j]
+            r += _DLAGRANGE[i, j] * d[p, j]
+        if not q > 0.0:
+            continue
+        r /= h
+        ddm = cs.ddm[p] if cs.flag[p] == 1 else max(r, model.clr_geo[k, CG_VFLOOR])
+        fn, _ = normal_force(
+            model.cp_ix[p, PI_LAW], model.cp_par[p, 0], q, r, ddm, model.clr_geo[k, CG_C]
+        )
+        F += model.cp_geo[p, PG_W] * fn
+    return F
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _force_peak(model, wk, cs, opts, k, t, y, K, P, h, xend, PK, stats, ys, yds):
+    """The largest F_N of joint k inside the step, if it can raise PK[k, 0]: located on
+    the estimate of `_fn_estimate` at the quartic's points (a force still rising at the
+    step's end is left to the next step), refined by golden section on f's own F_N within
+    the quartic's interval on either side."""
+    n = _NSAMPLE * _NGRAZE
+    d = wk.ev_d
+    if PK[k, 0] > 0.0:  # first at the probes only: far below the record, nothing to do
+        top = 0.0
+        for i in range(0, n + 1, _NGRAZE):
+            if i / n > xend:
+                break
+            top = max(top, _fn_estimate(model, cs, k, d, i, h))
+        if top < 0.8 * PK[k, 0]:
+            return
+    best, ib = -1.0, -1
+    for i in range(n + 1):
+        if i / n > xend:
+            break
+        F = _fn_estimate(model, cs, k, d, i, h)
+        if F > best:
+            best, ib = F, i
+    if ib < 0 or not best > 0.0 or best < PK[k, 0]:
+        return
+    if ib == n and n > 0 and _fn_estimate(model, cs, k, d, n - 1, h) < best:
+        return  # still rising at the end: the next step has the peak
+    a = max((ib - 1) / n, 0.0)
+    b = min((ib + 1) / n, xend)
+    c1 = b - _GOLD * (b - a)
+    c2 = a + _GOLD * (b - a)
+    g1 = _fn_on_step(model, wk, cs, opts, k, t, y, K, P, h, c1, ys, yds, stats)
+    g2 = _fn_on_step(model, wk, cs, opts, k, t, y, K, P, h, c2, ys, yds, stats)
+    for _ in range(_NFORCE):
+        if g1 >= g2:
+            b, c2, g2 = c2, c1, g1
+            c1 = b - _GOLD * (b - a)
+            g1 = _fn_on_step(model, wk, cs, opts, k, t, y, K, P, h, c1, ys, yds, stats)
+        else:
+            a, c1, g1 = c1, c2, g2
+            c2 = a + _GOLD * (b - a)
+            g2 = _fn_on_step(model, wk, cs, opts, k, t, y, K, P, h, c2, ys, yds, stats)
+    xf, gf = (c1, g1) if g1 >= g2 else (c2, g2)
+    if gf > PK[k, 0]:
+        PK[k, 0] = gf
+        PK[k, 1] = t + xf * h
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -361,15 +484,20 @@ def refine_peaks(model, wk, cs, opts, t, y, K, P, h, xend, PK, stats, ys, yds, c
     penetration so far (PK[k, 2]), the maximum of that point's gap on the dense output is
     found by golden section within the interval on either side, and f is evaluated there:
     its diagnostics raise PK[k] (largest F_N and delta, their times) as `track_peaks`
-    would. F_N is taken where delta peaks (the same time for elastic laws; a damped law's
-    force peaks earlier, on the approach, and is taken at the step ends as before).
-    A gap still rising at the step's end is left to the next step. So a search runs about
-    once per impact that raises the record (each: 26 gap probes and one right-hand side,
-    counted in stats[ST_NFEV]). ys, yds: scratch (ny,); cout: scratch like wk.cout, which
-    is kept (the next `track_peaks` reads it)."""
+    would. A damped law's force peaks earlier, on the approach, often in an earlier step:
+    `_force_peak` looks for it in every step, on an estimate of F_N from the gap quartics
+    and their slopes through the law. A gap or force still rising at the step's end is
+    left to the next step. So a search runs about once per impact that raises a record
+    (delta: 26 gap probes and one right-hand side; F_N: 20 right-hand sides; counted in
+    stats[ST_NFEV]). ys, yds: scratch (ny,); cout: scratch like wk.cout, which is kept (the
+    next `track_peaks` reads it)."""
     n = _NSAMPLE * _NGRAZE
     d = wk.ev_d
+    for a_ in range(cout.shape[0]):
+        for c in range(cout.shape[1]):
+            cout[a_, c] = wk.cout[a_, c]
     for k in range(model.nclr):
+        _force_peak(model, wk, cs, opts, k, t, y, K, P, h, xend, PK, stats, ys, yds)
         p0 = model.clr_ix[k, CI_P0]
         best, ib, pb = 0.0, 0, -1
         for p in range(p0, p0 + model.clr_ix[k, CI_NP]):
@@ -408,27 +536,16 @@ def refine_peaks(model, wk, cs, opts, t, y, K, P, h, xend, PK, stats, ys, yds, c
                 c2 = a + _GOLD * (b - a)
                 f2 = _gap_on_step(model, wk, k, pb, t, y, K, P, h, c2)
         xs = c1 if f1 >= f2 else c2
-        interpolate(y, K, P, h, xs, ys, wk.dw)
-        for bd in range(model.nb):  # unit quaternions, as at the samples
-            q = 7 * bd + 3
-            nq = math.sqrt(ys[q] ** 2 + ys[q + 1] ** 2 + ys[q + 2] ** 2 + ys[q + 3] ** 2)
-            for i in range(4):
-                ys[q + i] /= nq
-        for a_ in range(cout.shape[0]):
-            for c in range(cout.shape[1]):
-                cout[a_, c] = wk.cout[a_, c]
-        ts = t + xs * h
-        stats[ST_NFEV] += 1
-        if rhs(ts, ys, model, wk, cs, opts.alpha, opts.beta, opts.solver, yds) == 0:
+        if _f_on_step(model, wk, cs, opts, t, y, K, P, h, xs, ys, yds, stats):
             if wk.cout[k, CO_FN] > PK[k, 0]:
                 PK[k, 0] = wk.cout[k, CO_FN]
-                PK[k, 1] = ts
+                PK[k, 1] = t + xs * h
             if wk.cout[k, CO_DELTA] > PK[k, 2]:
                 PK[k, 2] = wk.cout[k, CO_DELTA]
-                PK[k, 3] = ts
-        for a_ in range(cout.shape[0]):
-            for c in range(cout.shape[1]):
-                wk.cout[a_, c] = cout[a_, c]
+                PK[k, 3] = t + xs * h
+    for a_ in range(cout.shape[0]):
+        for c in range(cout.shape[1]):
+            wk.cout[a_, c] = cout[a_, c]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
