@@ -206,9 +206,9 @@ class Result:
 
     def peak_contact_force(self, name: str) -> tuple[float, float]:
         """(F_N, t): the largest normal contact force [N] and its time [s], over the accepted
-        integration steps as well as the samples (an impact can be shorter than dt_out),
-        and, with the adaptive methods, where the penetration peaks between two steps (the
-        force's own peak for elastic laws; damped ones peak a little earlier)."""
+        integration steps as well as the samples (an impact can be shorter than dt_out);
+        with the adaptive methods, the force's own peak between two steps is found on the
+        dense output (a damped law's force peaks before the penetration)."""
         return self._peak(name, 0, CO_FN)
 
     def peak_penetration(self, name: str) -> tuple[float, float]:
