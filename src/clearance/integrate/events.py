@@ -315,46 +315,29 @@ def _graze(s, flag, xstart, xend):
     return xb
 
 
-def _lagrange_table(n_sample: int, n_graze: int) -> np.ndarray:
-    """L[i, j]: the Lagrange basis polynomial of probe j at x = i / (n_sample n_graze)."""
+def _lagrange_tables(n_sample: int, n_graze: int) -> tuple[np.ndarray, np.ndarray]:
+    """L[i, j] and dL[i, j]: the Lagrange basis polynomial of probe j and its derivative
+    d/dx (x in steps) at x = i / (n_sample n_graze), the product and its product rule."""
     n = n_sample * n_graze
-    out = np.zeros((n + 1, n_sample + 1))
+    L = np.zeros((n + 1, n_sample + 1))
+    dL = np.zeros((n + 1, n_sample + 1))
     for i in range(n + 1):
         x = i / n
         for j in range(n_sample + 1):
             w = 1.0
+            dw = 0.0
             for m in range(n_sample + 1):
                 if m != j:
-                    w *= (n_sample * x - m) / (j - m)
-            out[i, j] = w
-    return out
+                    f = (n_sample * x - m) / (j - m)
+                    dw = dw * f + w * n_sample / (j - m)
+                    w *= f
+            L[i, j] = w
+            dL[i, j] = dw
+    return L, dL
 
 
-_LAGRANGE = _lagrange_table(_NSAMPLE, _NGRAZE)  # (a compile-time constant of _graze)
-
-
-def _dlagrange_table(n_sample: int, n_graze: int) -> np.ndarray:
-    """dL[i, j]: d/dx of the Lagrange basis polynomial of probe j at x = i / (n_sample
-    n_graze) (x in steps)."""
-    n = n_sample * n_graze
-    out = np.zeros((n + 1, n_sample + 1))
-    for i in range(n + 1):
-        x = i / n
-        for j in range(n_sample + 1):
-            tot = 0.0
-            for m in range(n_sample + 1):
-                if m == j:
-                    continue
-                w = n_sample / (j - m)
-                for l in range(n_sample + 1):
-                    if l != j and l != m:
-                        w *= (n_sample * x - l) / (j - l)
-                tot += w
-            out[i, j] = tot
-    return out
-
-
-_DLAGRANGE = _dlagrange_table(_NSAMPLE, _NGRAZE)
+# (compile-time constants of _graze, refine_peaks and _fn_estimate)
+_LAGRANGE, _DLAGRANGE = _lagrange_tables(_NSAMPLE, _NGRAZE)
 # the quartic's slope (times a positive factor) at x = 0 and x = 1 from the 5 probes
 _SLOPE0 = np.array([-25.0, 48.0, -36.0, 16.0, -3.0])
 _SLOPE1 = np.array([3.0, -16.0, 36.0, -48.0, 25.0])
