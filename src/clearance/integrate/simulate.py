@@ -14,7 +14,7 @@ from clearance.analysis.assembly import assemble, rank_check, velocity_analysis
 from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.contact.element import ContactState, make_contact_state
 from clearance.dynamics.rhs import make_work, rhs
-from clearance.integrate.buffers import prefaulted_copy, prefaulted_zeros
+from clearance.integrate.buffers import prefaulted_zeros, prefaulted_zeros_many
 from clearance.integrate.methods import METHODS, method_loop, resolve_method
 from clearance.integrate.post import Blocks, PostArrays, post_process
 from clearance.integrate.state import Options, Outputs
@@ -546,15 +546,22 @@ def _build_result(
     mech = c.mechanism
     for k, b in enumerate(blocks):
         blk_pt[k] = _block_point(mech, b.name, blk_side[k])
-    VD = prefaulted_zeros((n, c.nv))
-    LAM = prefaulted_zeros((n, m))
-    PHI = prefaulted_zeros((n, m))
-    PHID = prefaulted_zeros((n, m))
-    EN = np.zeros((n, 3))
-    RF = prefaulted_zeros((n, nbk, 3))
-    RM = prefaulted_zeros((n, nbk, 3))
-    COUT = prefaulted_zeros((n, c.nclr, NCOUT))
-    POUT = prefaulted_zeros((n, c.ncp, NPOUT))
+    # one mapping for all (buffers.prefaulted_zeros_many); q and v copied out of Y below
+    VD, LAM, PHI, PHID, EN, RF, RM, COUT, POUT, QS, VS = prefaulted_zeros_many(
+        [
+            (n, c.nv),
+            (n, m),
+            (n, m),
+            (n, m),
+            (n, 3),
+            (n, nbk, 3),
+            (n, nbk, 3),
+            (n, c.nclr, NCOUT),
+            (n, c.ncp, NPOUT),
+            (n, c.nq),
+            (n, c.nv),
+        ]
+    )
     nexact = 0
     if n:
         nexact = post_process(
@@ -583,6 +590,8 @@ def _build_result(
             float(ptol),
             float(pabs),
         )
+    np.copyto(QS, Y[:, : c.nq])
+    np.copyto(VS, Y[:, c.nq : c.nq + c.nv])
     lay = c.layout
     W = Y[:, lay.iw : lay.idn]
     Dn = Y[:, lay.idn : lay.idt]
@@ -643,8 +652,8 @@ def _build_result(
     return Result(
         compiled=c,
         t=ts.copy(),
-        q=prefaulted_copy(Y[:, : c.nq]),
-        v=prefaulted_copy(Y[:, c.nq : c.nq + c.nv]),
+        q=QS,
+        v=VS,
         a=VD,
         lam=LAM,
         phi=PHI,
