@@ -12,7 +12,7 @@ clearance integration `--runs` times.
 
 Sizes are the distance to the next function (LLVM does not report them), so a sample in
 the padding after a function counts for it. Names are numba's mangled names
-(`_ZN9clearance8dynamics5solve17envelope_cholesky...`); `--demangle` (a filter) shortens
+(`_ZN9clearance8dynamics5solve15sparse_cholesky...`); `--demangle` (a filter) shortens
 them to the dotted path. The whole `simulate` call is sampled, post-processing included.
 """
 
