@@ -95,12 +95,13 @@ def rank_check(c: Compiled, t: float, y: np.ndarray, *, rtol: float = 1e-9) -> R
     m, n = Jd.shape
     if m == 0:
         return RankReport(0, n, 0, n, 0, np.zeros(0), ())
-    U, s, _ = np.linalg.svd(Jd)
-    tol = rtol * max(1.0, s[0]) if s.size else rtol
+    s = np.linalg.svd(Jd, compute_uv=False)  # (the vectors only when rows are dependent:
+    tol = rtol * max(1.0, s[0]) if s.size else rtol  # 0.25 against 0.7 ms on 66 x 66)
     rank = int(np.sum(s > tol))
     red = m - rank
     involved: tuple = ()
     if red:
+        U = np.linalg.svd(Jd)[0]
         null = U[:, rank:]  # left null space: combinations of dependent rows
         weight = np.sqrt(np.sum(null**2, axis=1))
         involved = tuple(_blocks_of_rows(c, np.nonzero(weight > 1e-6)[0]))
