@@ -126,16 +126,34 @@ def test_symbolic_cholesky_pattern_equals_lapack_factors_nonzeros():
             assert pattern[i] == [k for k in range(i) if low[i, k] != 0.0]
 
 
-@pytest.mark.parametrize("which", ["ups_upu", "sps_cu"])
-def test_sparse_factor_of_parallel_mechanisms_equals_lapack(which):
-    """On the seed mechanisms (five legs closing loops through the platform: fill), the
-    kernel's factor of S = phi_q M^-1 phi_q^T equals LAPACK's Cholesky of S formed densely
-    here (phi_q from evaluate_rows, M from the bodies) at random states, entries outside
-    the pattern are zero in LAPACK's factor too, and the solve equals the dense one."""
+def _seed(which: str, sparse: bool, monkeypatch) -> cl.Compiled:
+    """A seed mechanism compiled with the sparse (or the envelope) Cholesky forced."""
+    from clearance.compile import compiled
     from clearance.mechanisms.sps_cu import sps_cu
     from clearance.mechanisms.ups_upu import ups_upu_ideal
 
+    monkeypatch.setattr(compiled, "SPARSE_RATIO", float("inf") if sparse else 0.0)
     c = cl.compile_mechanism(ups_upu_ideal() if which == "ups_upu" else sps_cu(limbs="two-body"))
+    assert c.model.sch_sparse == int(sparse)
+    return c
+
+
+def _random_states(c: cl.Compiled, seed: int, n: int = 3):
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        y = c.y0.copy()
+        y[: c.nq] += 0.01 * rng.normal(size=c.nq)
+        y[c.nq : c.nq + c.nv] = rng.normal(size=c.nv)
+        yield y
+
+
+@pytest.mark.parametrize("which", ["ups_upu", "sps_cu"])
+def test_sparse_factor_of_parallel_mechanisms_equals_lapack(which, monkeypatch):
+    """On the seed mechanisms (legs closing loops through the platform: fill), the sparse
+    kernel's factor of S = phi_q M^-1 phi_q^T equals LAPACK's Cholesky of S formed densely
+    here (phi_q from evaluate_rows, M from the bodies) at random states, entries outside
+    the pattern are zero in LAPACK's factor too, and the solve equals the dense one."""
+    c = _seed(which, True, monkeypatch)
     md = c.model
     m = c.nrow
     pos = np.asarray(md.row_pos)
@@ -144,11 +162,7 @@ def test_sparse_factor_of_parallel_mechanisms_equals_lapack(which):
     for i in range(m):
         inpat[i, rowidx[rowptr[i] : rowptr[i + 1]]] = True
     assert inpat.sum() < m * (m + 1) / 2 / 2  # sparse: under half of the triangle
-    rng = np.random.default_rng(12)
-    for _ in range(3):
-        y = c.y0.copy()
-        y[: c.nq] += 0.01 * rng.normal(size=c.nq)
-        y[c.nq : c.nq + c.nv] = rng.normal(size=c.nv)
+    for y in _random_states(c, 12):
         wk = make_work(md)
         yd = np.empty_like(y)
         assert rhs(0.3, y, md, wk, cl.contact_state(c), 5.0, 5.0, 0, yd) == 0
@@ -167,3 +181,26 @@ def test_sparse_factor_of_parallel_mechanisms_equals_lapack(which):
         yd1 = np.empty_like(y)
         rhs(0.3, y, md, make_work(md), cl.contact_state(c), 5.0, 5.0, 1, yd1)
         np.testing.assert_allclose(yd, yd1, rtol=1e-9, atol=1e-9 * np.abs(yd1).max())
+
+
+@pytest.mark.parametrize("which", ["ups_upu", "sps_cu"])
+def test_sparse_and_envelope_cholesky_give_the_same_bits(which, monkeypatch):
+    """The two factorisations skip only exact zeros of each other's sums, so the right-hand
+    side and the multipliers agree bit for bit; and the automatic choice takes the sparse
+    one for the ideal 4UPS-UPU, whose envelope does four times its products."""
+    from clearance.compile import compiled
+    from clearance.mechanisms.ups_upu import ups_upu_ideal
+
+    cs = _seed(which, True, monkeypatch)
+    ce = _seed(which, False, monkeypatch)
+    for y in _random_states(cs, 13):
+        out = []
+        for c in (cs, ce):
+            wk = make_work(c.model)
+            yd = np.empty_like(y)
+            assert rhs(0.3, y, c.model, wk, cl.contact_state(c), 5.0, 5.0, 0, yd) == 0
+            out.append((yd, wk.lam.copy()))
+        assert np.array_equal(out[0][0], out[1][0]) and np.array_equal(out[0][1], out[1][1])
+    monkeypatch.undo()
+    assert compiled.SPARSE_RATIO == 0.5
+    assert cl.compile_mechanism(ups_upu_ideal()).model.sch_sparse == 1

@@ -72,9 +72,13 @@ class Model(NamedTuple):
     # Structure of S = J M^-1 J^T in factor order, fixed at compile time. Index arrays are
     # uint32: numba then knows they are not negative and drops its wraparound code (~30 %
     # of the assembly time).
-    sch_colptr: np.ndarray  # (nrow+1,) rows i > j with L[i, j] structurally non-zero (the
-    # symbolic Cholesky factor, fill included): CSR pointers by column
+    sch_sparse: int  # 1: sparse Cholesky over L's pattern, 0: envelope Cholesky (SPARSE_RATIO)
+    sch_first: np.ndarray  # (nrow,) uint32 first structural non-zero column of each row: the
+    # envelope, which contains the Cholesky fill
+    sch_colptr: np.ndarray  # (nrow+1,) rows i > j of column j: of the envelope (first[i] <= j),
+    # or where L[i, j] is structurally non-zero (sparse; fill included): CSR pointers
     sch_colidx: np.ndarray  # uint32 row indices, increasing
+    # sparse only (empty otherwise):
     sch_rowptr: np.ndarray  # (nrow+1,) columns k < i with L[i, k] non-zero: CSR by row
     sch_rowidx: np.ndarray  # uint32 column indices, increasing
     sch_dotptr: np.ndarray  # (len(sch_colidx)+1,) per entry (i, j) of sch_colidx, the columns
@@ -482,6 +486,13 @@ def _factor_order(nrow: int, lists: list) -> np.ndarray:
     return pos
 
 
+#: the sparse Cholesky is compiled in where its products (dot-product terms over L's
+#: pattern) are at most this fraction of the envelope Cholesky's. Measured in the
+#: integration loop (dynamics/solve.py, sparse_cholesky): the ideal 4UPS-UPU (0.24) runs
+#: 24 % faster sparse, the default clearance model (0.68) 8 % slower; 0: never sparse
+SPARSE_RATIO = 0.5
+
+
 def _symbolic_cholesky(nrow: int, entries: set) -> list:
     """Row patterns of the Cholesky factor L of a symmetric matrix whose lower-triangle
     non-zeros are the flat indices nrow * i + j in `entries` (factor order): for each row i,
@@ -513,13 +524,15 @@ def _symbolic_cholesky(nrow: int, entries: set) -> list:
 
 
 def _schur_structure(nrow: int, lists: list, pos: np.ndarray, rot_only: np.ndarray) -> dict:
-    """Model.sch_* arrays: the pattern of the Cholesky factor L of S = J M^-1 J^T in factor
-    order (by row, by column, and per entry the terms of its dot product), and the
+    """Model.sch_* arrays: the envelope of S = J M^-1 J^T in factor order and its columns,
+    or, where the sparse Cholesky does far fewer products (SPARSE_RATIO), the pattern of
+    its factor L (by row, by column, and per entry the terms of its dot product); and the
     assembly terms (one per pair of rows sharing a body), grouped so that the run-time
     assembly does no index searching, no clearing of assembled entries and no products
-    with structural zeros. Rows sharing no body are structural zeros; L's pattern adds the
-    fill (`_symbolic_cholesky`), cleared before each assembly. rot_only[r]: row r has no
-    translational Jacobian columns."""
+    with structural zeros. Rows sharing no body are structural zeros; the envelope contains
+    L's pattern, which adds the fill (`_symbolic_cholesky`); the fill is cleared before each
+    assembly. rot_only[r]: row r has no translational Jacobian columns."""
+    first = np.arange(nrow, dtype=np.int64)
     groups: list[list] = [[], [], [], []]
     seen = set()
     for rows in lists:
@@ -535,22 +548,37 @@ def _schur_structure(nrow: int, lists: list, pos: np.ndarray, rot_only: np.ndarr
                 g = (2 if dst in seen else 0) + (0 if short else 1)
                 seen.add(dst)
                 groups[g].append((12 * ra + 6 * sa + off, 12 * rc + 6 * sc + off, dst))
+                first[hi] = min(first[hi], lo)
     rowpat = _symbolic_cholesky(nrow, seen)
-    cols: list[list] = [[] for _ in range(nrow)]
+    ecols = [[i for i in range(j + 1, nrow) if first[i] <= j] for j in range(nrow)]
+    env_products = sum(
+        j - first[j] + sum(j - max(first[i], first[j]) for i in ecols[j]) for j in range(nrow)
+    )
+    rowsets = [set(r) for r in rowpat]
+    pcols: list[list] = [[] for _ in range(nrow)]
     for i in range(nrow):
         for k in rowpat[i]:
-            cols[k].append(i)
+            pcols[k].append(i)
+    dots = [[k for k in rowpat[j] if k in rowsets[i]] for j in range(nrow) for i in pcols[j]]
+    sp_products = sum(len(r) for r in rowpat) + sum(len(d) for d in dots)
+    sparse = SPARSE_RATIO > 0.0 and sp_products <= SPARSE_RATIO * env_products
+    if sparse:
+        cols = pcols
+        fill = [nrow * p + c for p in range(nrow) for c in (*rowpat[p], p)]
+    else:
+        cols = ecols
+        fill = [nrow * p + c for p in range(nrow) for c in range(first[p], p + 1)]
+        rowpat, dots = [[] for _ in range(nrow)], []
     colptr = np.zeros(nrow + 1, dtype=np.int64)
     colptr[1:] = np.cumsum([len(c) for c in cols])
     rowptr = np.zeros(nrow + 1, dtype=np.int64)
     rowptr[1:] = np.cumsum([len(r) for r in rowpat])
-    rowsets = [set(r) for r in rowpat]
-    dots = [[k for k in rowpat[j] if k in rowsets[i]] for j in range(nrow) for i in cols[j]]
     dotptr = np.zeros(len(dots) + 1, dtype=np.int64)
     dotptr[1:] = np.cumsum([len(d) for d in dots])
-    fill = [nrow * p + c for p in range(nrow) for c in (*rowpat[p], p)]
     pairs = [t for g in groups for t in g]
     return dict(
+        sch_sparse=int(sparse),
+        sch_first=first.astype(np.uint32),
         sch_colptr=colptr,
         sch_colidx=np.array([i for c in cols for i in c], dtype=np.uint32),
         sch_rowptr=rowptr,

@@ -4,11 +4,12 @@
     [ phi_q  0       ] [ lam   ] = [ gamma_B ]
 
 SCHUR (default): S = phi_q M^-1 phi_q^T assembled body by body from the row-block Jacobian
-(each row touches at most two bodies), factorised by a sparse Cholesky in a row order
-chosen at compile time (reverse Cuthill-McKee); only the factor's structural non-zeros
-(fill included) are computed, so the cost follows the mechanism's sparsity, not m^3. The
-factor's pattern and the list of assembly terms are computed at compile time
-(Model.sch_*; compile/compiled.py, _schur_structure).
+(each row touches at most two bodies), factorised in a row order chosen at compile time
+(reverse Cuthill-McKee) by an envelope Cholesky (contiguous inner loops over each row's
+envelope) or, where that does far more products, a sparse Cholesky over the factor's
+structural non-zeros (fill included); both give the same bits. So the cost follows the
+mechanism's sparsity, not m^3. The envelope or pattern and the list of assembly terms are
+computed at compile time (Model.sch_*; compile/compiled.py, _schur_structure).
 DENSE: the full augmented matrix with LU (np.linalg.solve): the checked fallback.
 LSTSQ: minimum-norm multipliers from S by least squares, for redundant but consistent
 constraint sets (physics.md c.5): v_dot is unique, lam is not.
@@ -69,8 +70,8 @@ def assemble_schur(model, J, JM, S, full):
     """Lower triangle of S = J M^-1 J^T in factor order (row r at position row_pos[r]).
 
     Runs over the compile-time term list (Model.sch_pair, sch_grp): first terms set an entry,
-    second terms add to it, fill entries of the factor are cleared. full: clear the whole
-    triangle first (least squares reads it all)."""
+    second terms add to it, fill entries of the factor (envelope or pattern) are cleared.
+    full: clear the whole triangle first (least squares reads it all)."""
     m = model.nrow
     if full:
         for a in range(m):
@@ -106,6 +107,57 @@ def _terms(Jf, JMf, Sf, pr, q0, q1, n, add):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def envelope_cholesky(S, m, first, colptr, colidx, dinv):
+    """In-place lower Cholesky of the envelope of S (first[i] = first non-zero column of row
+    i; colidx[colptr[j]:colptr[j+1]] = rows i > j with first[i] <= j). Only the envelope is
+    touched, and fill-in stays inside it. Column by column: the entries of a column are
+    independent, which keeps the processor busy (row by row, each entry waits for the one
+    before it).
+
+    dinv[j] = 1 / L[j, j] for the triangular solves. Returns False if a pivot is not positive
+    relative to its diagonal (singular or redundant constraints).
+    """
+    for j in range(m):
+        fj = first[j]
+        d0 = S[j, j]
+        s = d0
+        for k in range(fj, j):
+            s -= S[j, nn(k)] * S[j, nn(k)]
+        if not (s > 1e-12 * abs(d0)) or d0 == 0.0:
+            return False
+        ljj = math.sqrt(s)
+        S[j, j] = ljj
+        dinv[j] = 1.0 / ljj
+        for a in range(colptr[j], colptr[j + 1]):
+            i = colidx[a]
+            fi = first[i]
+            s = S[i, j]
+            for k in range(fi if fi > fj else fj, j):
+                s -= S[i, nn(k)] * S[j, nn(k)]
+            S[i, j] = s / ljj
+    return True
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def envelope_solve(L, m, first, dinv, x):
+    """Solve L L^T x = b in place (x holds b on entry); dinv = 1 / diag(L).
+
+    Each unknown waits for the one before it, so the solves are latency-bound: multiplying
+    by the reciprocal instead of dividing shortens that chain (0.9 -> 0.65 us; the result
+    changes in the last bit)."""
+    for i in range(m):
+        s = x[i]
+        for k in range(first[i], i):
+            s -= L[i, nn(k)] * x[nn(k)]
+        x[i] = s * dinv[i]
+    for i in range(m - 1, -1, -1):
+        xi = x[i] * dinv[i]
+        x[i] = xi
+        for k in range(first[i], i):
+            x[nn(k)] -= L[i, nn(k)] * xi
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def sparse_cholesky(S, m, rowptr, rowidx, colptr, colidx, dotptr, dotidx, dinv):
     """In-place lower Cholesky of S over the symbolic factor's pattern (Model.sch_*: the
     columns k < i of row i, the rows i > j of column j, and per entry (i, j) the columns k
@@ -115,9 +167,11 @@ def sparse_cholesky(S, m, rowptr, rowidx, colptr, colidx, dotptr, dotidx, dinv):
 
     The entries outside the pattern stay exact zeros in a dense factorisation, so skipping
     them leaves every sum with the same terms in the same order: the factor is bit for bit
-    that of the envelope Cholesky this replaces, at a quarter of its products on the ideal
-    4UPS-UPU (2153 against 8816: five legs joined at the platform make the envelope
-    nearly full there) and two thirds on the default clearance model.
+    that of `envelope_cholesky`. Chosen at compile time where it does far fewer products
+    (Model.sch_sparse; compile/compiled.py, SPARSE_RATIO): the ideal 4UPS-UPU, 2153
+    against 8816 (five legs joined at the platform make the envelope nearly full there),
+    integration loop 11.4 -> 8.7 us per rhs. On the default clearance model (1422 against
+    2088) the indirect indexing costs more than it saves: 7.6 -> 8.2 us in the loop.
 
     dinv[j] = 1 / L[j, j] for the triangular solves. Returns False if a pivot is not positive
     relative to its diagonal (singular or redundant constraints).
@@ -212,11 +266,16 @@ def _solve(model, Jb, Jinv, J, gB, Q, solver, JM, S, dinv, rl, lam, MiQ, vd):
         rl[nn(model.row_pos[r])] = s
     assemble_schur(model, J, JM, S, solver != 0)
     if solver == 0:
-        rp, ri = model.sch_rowptr, model.sch_rowidx
         cp, ci = model.sch_colptr, model.sch_colidx
-        if not sparse_cholesky(S, m, rp, ri, cp, ci, model.sch_dotptr, model.sch_dotidx, dinv):
-            return 1
-        sparse_solve(S, m, rp, ri, dinv, rl)
+        if model.sch_sparse:
+            rp, ri = model.sch_rowptr, model.sch_rowidx
+            if not sparse_cholesky(S, m, rp, ri, cp, ci, model.sch_dotptr, model.sch_dotidx, dinv):
+                return 1
+            sparse_solve(S, m, rp, ri, dinv, rl)
+        else:
+            if not envelope_cholesky(S, m, model.sch_first, cp, ci, dinv):
+                return 1
+            envelope_solve(S, m, model.sch_first, dinv, rl)
     else:
         _lstsq(S, m, rl, lam)
     for r in range(m):
