@@ -110,3 +110,14 @@ def test_falls_back_without_populate_or_when_the_mapping_fails(monkeypatch):
     monkeypatch.setattr(buffers.mmap, "mmap", refuse)
     b = prefaulted_zeros(BIG)
     assert b.base is None and b.shape == BIG and not b.any()
+
+
+def test_windows_like_platform_gets_plain_zeros(monkeypatch):
+    """No MAP_PRIVATE / MAP_ANONYMOUS (Windows): np.zeros, never an AttributeError."""
+    for name in ("MAP_PRIVATE", "MAP_ANONYMOUS", "MAP_POPULATE", "MADV_HUGEPAGE"):
+        monkeypatch.delattr(mmap, name, raising=False)
+    monkeypatch.setattr(buffers.sys, "platform", "win32")
+    a = prefaulted_zeros(BIG)
+    many = prefaulted_zeros_many([BIG, (3, 2)])
+    assert a.base is None and not a.any() and a.shape == BIG
+    assert [m.shape for m in many] == [BIG, (3, 2)] and not many[0].any()

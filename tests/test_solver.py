@@ -149,7 +149,7 @@ def _random_states(c: cl.Compiled, seed: int, n: int = 3):
 
 @pytest.mark.parametrize("which", ["ups_upu", "sps_cu"])
 def test_sparse_factor_of_parallel_mechanisms_equals_lapack(which, monkeypatch):
-    """On the seed mechanisms (legs closing loops through the platform: fill), the sparse
+    """On the seed mechanisms (legs closing loops through the platform), the sparse
     kernel's factor of S = phi_q M^-1 phi_q^T equals LAPACK's Cholesky of S formed densely
     here (phi_q from evaluate_rows, M from the bodies) at random states, entries outside
     the pattern are zero in LAPACK's factor too, and the solve equals the dense one."""
@@ -200,7 +200,57 @@ def test_sparse_and_envelope_cholesky_give_the_same_bits(which, monkeypatch):
             yd = np.empty_like(y)
             assert rhs(0.3, y, c.model, wk, cl.contact_state(c), 5.0, 5.0, 0, yd) == 0
             out.append((yd, wk.lam.copy()))
-        assert np.array_equal(out[0][0], out[1][0]) and np.array_equal(out[0][1], out[1][1])
+        assert out[0][0].tobytes() == out[1][0].tobytes()  # (bits: also the signs of zeros)
+        assert out[0][1].tobytes() == out[1][1].tobytes()
     monkeypatch.undo()
     assert compiled.SPARSE_RATIO == 0.5
     assert cl.compile_mechanism(ups_upu_ideal()).model.sch_sparse == 1
+
+
+def _ring(n: int = 5) -> cl.Mechanism:
+    """n bars joined end to end into a closed ring by spherical joints, the first one hung
+    from the ground: a loop of moving bodies, whose Schur complement has Cholesky fill
+    (the seed mechanisms' row graphs are chordal in their factor order: none)."""
+    m = cl.Mechanism("ring", gravity=(0, 0, -9.81))
+    ang = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    pts = np.column_stack([np.cos(ang), np.sin(ang), np.zeros(n)])
+    for k in range(n):
+        a, b = pts[k], pts[(k + 1) % n]
+        mid = 0.5 * (a + b)
+        m.add(cl.Body(f"b{k}", 1.0 + 0.1 * k, (0.1, 0.2, 0.3), position=tuple(mid)))
+        m.add(cl.Marker(f"b{k}_a", f"b{k}", tuple(a - mid)))
+        m.add(cl.Marker(f"b{k}_b", f"b{k}", tuple(b - mid)))
+    for k in range(n):
+        m.add(cl.Spherical(f"s{k}", f"b{k}_b", f"b{(k + 1) % n}_a"))
+    m.add(cl.Marker("g", cl.GROUND, tuple(pts[0])), cl.Spherical("hang", "g", "b0_a"))
+    return m
+
+
+def test_fill_is_cleared_and_both_factorisations_agree_on_a_loop(monkeypatch):
+    """On a ring of bodies (fill in the factor: entries neither assembled nor structurally
+    zero), a work buffer whose S holds NaN from before gives the same bits as a fresh one
+    in both modes, and the modes agree bit for bit and with the dense solve."""
+    from clearance.compile import compiled
+
+    res = {}
+    for sparse in (True, False):
+        monkeypatch.setattr(compiled, "SPARSE_RATIO", float("inf") if sparse else 0.0)
+        c = cl.compile_mechanism(_ring())
+        assert c.model.sch_sparse == int(sparse) and c.model.sch_fill.size > 0
+        out = []
+        for y in _random_states(c, 14):
+            runs = []
+            for stale in (False, True):
+                wk = make_work(c.model)
+                if stale:
+                    wk.S[...] = np.nan
+                yd = np.empty_like(y)
+                assert rhs(0.3, y, c.model, wk, cl.contact_state(c), 5.0, 5.0, 0, yd) == 0
+                runs.append(yd.tobytes() + wk.lam.tobytes())
+            assert runs[0] == runs[1]
+            yd1 = np.empty_like(y)
+            rhs(0.3, y, c.model, make_work(c.model), cl.contact_state(c), 5.0, 5.0, 1, yd1)
+            np.testing.assert_allclose(yd, yd1, rtol=1e-9, atol=1e-9 * np.abs(yd1).max())
+            out.append(runs[0])
+        res[sparse] = out
+    assert res[True] == res[False]

@@ -469,7 +469,7 @@ def _force_arrays(b: _Builder):
 def _factor_order(nrow: int, lists: list) -> np.ndarray:
     """Row order for the Cholesky factor of S: reverse Cuthill-McKee on the graph of rows
     that share a body (scipy). On the 4UPS-UPU a minimum-degree order was tried and gives
-    the same fill (ideal: 507 non-zeros of L, 2153 products in the factorisation)."""
+    the same fill (ideal: 507 non-zeros of L, 1949 products in the factorisation)."""
     if nrow == 0:
         return np.zeros(0, dtype=np.int64)
     ri, ci = [], []
@@ -488,8 +488,8 @@ def _factor_order(nrow: int, lists: list) -> np.ndarray:
 
 #: the sparse Cholesky is compiled in where its products (dot-product terms over L's
 #: pattern) are at most this fraction of the envelope Cholesky's. Measured in the
-#: integration loop (dynamics/solve.py, sparse_cholesky): the ideal 4UPS-UPU (0.24) runs
-#: 24 % faster sparse, the default clearance model (0.68) 8 % slower; 0: never sparse
+#: integration loop (dynamics/solve.py, sparse_cholesky): the ideal 4UPS-UPU (0.22) runs
+#: 24 % faster sparse, the default clearance model (0.61) 8 % slower; 0: never sparse
 SPARSE_RATIO = 0.5
 
 
@@ -561,7 +561,7 @@ def _schur_structure(nrow: int, lists: list, pos: np.ndarray, rot_only: np.ndarr
             pcols[k].append(i)
     dots = [[k for k in rowpat[j] if k in rowsets[i]] for j in range(nrow) for i in pcols[j]]
     sp_products = sum(len(r) for r in rowpat) + sum(len(d) for d in dots)
-    sparse = SPARSE_RATIO > 0.0 and sp_products <= SPARSE_RATIO * env_products
+    sparse = env_products > 0 and SPARSE_RATIO > 0.0 and sp_products <= SPARSE_RATIO * env_products
     if sparse:
         cols = pcols
         fill = [nrow * p + c for p in range(nrow) for c in (*rowpat[p], p)]

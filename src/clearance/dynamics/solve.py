@@ -168,10 +168,12 @@ def sparse_cholesky(S, m, rowptr, rowidx, colptr, colidx, dotptr, dotidx, dinv):
     The entries outside the pattern stay exact zeros in a dense factorisation, so skipping
     them leaves every sum with the same terms in the same order: the factor is bit for bit
     that of `envelope_cholesky`. Chosen at compile time where it does far fewer products
-    (Model.sch_sparse; compile/compiled.py, SPARSE_RATIO): the ideal 4UPS-UPU, 2153
+    (Model.sch_sparse; compile/compiled.py, SPARSE_RATIO): the ideal 4UPS-UPU, 1949
     against 8816 (five legs joined at the platform make the envelope nearly full there),
-    integration loop 11.4 -> 8.7 us per rhs. On the default clearance model (1422 against
+    integration loop 11.4 -> 8.7 us per rhs. On the default clearance model (1272 against
     2088) the indirect indexing costs more than it saves: 7.6 -> 8.2 us in the loop.
+    (Bit for bit for finite S; a non-finite right-hand side can spread NaN differently,
+    0 * inf, into a solution that is not finite either way.)
 
     dinv[j] = 1 / L[j, j] for the triangular solves. Returns False if a pivot is not positive
     relative to its diagonal (singular or redundant constraints).

@@ -35,7 +35,10 @@ MADV_POPULATE_WRITE = 23
 def _populated(nbytes: int) -> mmap.mmap | None:
     """An anonymous mapping of nbytes, populated, in huge pages where possible; None where
     the OS cannot (no MAP_POPULATE, or the mapping refused: the caller pages on demand)."""
-    flags = mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS
+    private, anonymous = getattr(mmap, "MAP_PRIVATE", None), getattr(mmap, "MAP_ANONYMOUS", None)
+    if private is None or anonymous is None:  # (Windows)
+        return None
+    flags = private | anonymous
     if sys.platform.startswith("linux") and hasattr(mmap, "MADV_HUGEPAGE"):
         try:
             buf = mmap.mmap(-1, nbytes, flags=flags)
@@ -76,7 +79,8 @@ def prefaulted_zeros_many(shapes: list, dtype: type = np.float64) -> list:
     """[prefaulted_zeros(s, dtype) for s in shapes], all in one mapping: one system call,
     and huge pages for arrays that are each smaller than one (the ideal 4UPS-UPU at 2001
     samples: seven arrays of 1-2 MB, 2.8 ms apart against 0.8 ms together). Each array
-    starts on a 64-byte boundary; the mapping is released with the last of them."""
+    starts on a 64-byte boundary; the mapping is released with the last of them, so group
+    arrays that live and die together (a Result's post-processed outputs)."""
     dt = np.dtype(dtype)
     shapes = [tuple(int(n) for n in s) for s in shapes]
     sizes = [int(np.prod(s, dtype=np.int64)) * dt.itemsize for s in shapes]

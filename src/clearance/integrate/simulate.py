@@ -546,8 +546,9 @@ def _build_result(
     mech = c.mechanism
     for k, b in enumerate(blocks):
         blk_pt[k] = _block_point(mech, b.name, blk_side[k])
-    # one mapping for all (buffers.prefaulted_zeros_many); q and v copied out of Y below
-    VD, LAM, PHI, PHID, EN, RF, RM, COUT, POUT, QS, VS = prefaulted_zeros_many(
+    # one mapping for the post-processed outputs (buffers.prefaulted_zeros_many), another
+    # for q and v (copied out of Y below), which a script may keep alone
+    VD, LAM, PHI, PHID, EN, RF, RM, COUT, POUT = prefaulted_zeros_many(
         [
             (n, c.nv),
             (n, m),
@@ -558,10 +559,9 @@ def _build_result(
             (n, nbk, 3),
             (n, c.nclr, NCOUT),
             (n, c.ncp, NPOUT),
-            (n, c.nq),
-            (n, c.nv),
         ]
     )
+    QS, VS = prefaulted_zeros_many([(n, c.nq), (n, c.nv)])
     nexact = 0
     if n:
         nexact = post_process(
