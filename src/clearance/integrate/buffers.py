@@ -66,13 +66,7 @@ def prefaulted_zeros(shape: tuple, dtype: type = np.float64) -> np.ndarray:
     """np.zeros(shape, dtype), with all pages mapped at allocation where the OS allows it.
 
     The array owns its mapping (through `.base`); it is released with the array."""
-    shape = tuple(int(s) for s in shape)
-    dt = np.dtype(dtype)
-    nbytes = int(np.prod(shape, dtype=np.int64)) * dt.itemsize
-    buf = _populated(nbytes) if nbytes >= POPULATE_MIN_BYTES else None
-    if buf is None:
-        return np.zeros(shape, dt)
-    return np.frombuffer(buf, dtype=dt).reshape(shape)  # anonymous memory is zero-filled
+    return prefaulted_zeros_many([shape], dtype)[0]
 
 
 def prefaulted_zeros_many(shapes: list, dtype: type = np.float64) -> list:
@@ -91,7 +85,7 @@ def prefaulted_zeros_many(shapes: list, dtype: type = np.float64) -> list:
     buf = _populated(total) if total >= POPULATE_MIN_BYTES else None
     if buf is None:
         return [np.zeros(s, dt) for s in shapes]
-    return [
+    return [  # (anonymous memory is zero-filled)
         np.frombuffer(buf, dtype=dt, count=nb // dt.itemsize, offset=o).reshape(s)
         for s, nb, o in zip(shapes, sizes, offsets, strict=True)
     ]
