@@ -106,6 +106,19 @@ def _terms(Jf, JMf, Sf, pr, q0, q1, n, add):
             Sf[pr[q, 2]] = v
 
 
+@njit(cache=True, inline="always", error_model="numpy", _nrt=False)
+def _pivot(S, j, s, d0, dinv):
+    """The diagonal entry L[j, j] = sqrt(s) of both Cholesky kernels, stored with its
+    reciprocal in dinv[j]; 0.0 (nothing stored) if the pivot s is not positive relative
+    to the diagonal d0 = S[j, j] (singular or redundant constraints)."""
+    if not (s > 1e-12 * abs(d0)) or d0 == 0.0:
+        return 0.0
+    ljj = math.sqrt(s)
+    S[j, j] = ljj
+    dinv[j] = 1.0 / ljj
+    return ljj
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def envelope_cholesky(S, m, first, colptr, colidx, dinv):
     """In-place lower Cholesky of the envelope of S (first[i] = first non-zero column of row
@@ -123,11 +136,9 @@ def envelope_cholesky(S, m, first, colptr, colidx, dinv):
         s = d0
         for k in range(fj, j):
             s -= S[j, nn(k)] * S[j, nn(k)]
-        if not (s > 1e-12 * abs(d0)) or d0 == 0.0:
+        ljj = _pivot(S, j, s, d0, dinv)
+        if ljj == 0.0:
             return False
-        ljj = math.sqrt(s)
-        S[j, j] = ljj
-        dinv[j] = 1.0 / ljj
         for a in range(colptr[j], colptr[j + 1]):
             i = colidx[a]
             fi = first[i]
@@ -184,11 +195,9 @@ def sparse_cholesky(S, m, rowptr, rowidx, colptr, colidx, dotptr, dotidx, dinv):
         for p in range(rowptr[j], rowptr[j + 1]):
             k = rowidx[p]
             s -= S[j, k] * S[j, k]
-        if not (s > 1e-12 * abs(d0)) or d0 == 0.0:
+        ljj = _pivot(S, j, s, d0, dinv)
+        if ljj == 0.0:
             return False
-        ljj = math.sqrt(s)
-        S[j, j] = ljj
-        dinv[j] = 1.0 / ljj
         for a in range(colptr[j], colptr[j + 1]):
             i = colidx[a]
             s = S[i, j]
