@@ -123,9 +123,10 @@ def test_bound_holds_on_a_rattling_joint() -> None:
     np.testing.assert_array_equal(interp.contact_peaks, exact.contact_peaks)
 
 
-def direct(c: cl.Compiled, r: cl.Result, CS: np.ndarray, Y=None, ptol: float = 1e-7):
-    """post_process on r's samples with a made-up contact state CS (and states Y): the
-    number of exact evaluations and the outputs (no reaction blocks)."""
+def direct(c: cl.Compiled, r: cl.Result, CS: np.ndarray, Y=None, ptol: float = 1e-7, PC=None):
+    """post_process on r's samples with a made-up contact state CS (and states Y, and
+    dense-output pieces PC; default none known): the number of exact evaluations and the
+    outputs (no reaction blocks)."""
     n, m = r.t.size, c.model
     if Y is None:
         Y = np.column_stack([r.q, r.v, np.zeros((n, c.ny - c.nq - c.nv))])
@@ -134,7 +135,9 @@ def direct(c: cl.Compiled, r: cl.Result, CS: np.ndarray, Y=None, ptol: float = 1
     none = np.zeros(0, dtype=np.int64)
     blk = Blocks(none, none, none, np.zeros((0, 3)))
     args = (m, make_work(m), make_contact_state(m), 5.0, 5.0, 0, np.ascontiguousarray(r.t))
-    k = post_process(*args, np.ascontiguousarray(Y), CS, n, blk, out, ptol, 1e-10)
+    if PC is None:
+        PC = np.full(n, -1, dtype=np.int64)
+    k = post_process(*args, np.ascontiguousarray(Y), CS, PC, n, blk, out, ptol, 1e-10)
     return k, out
 
 
@@ -158,6 +161,65 @@ def test_windows_never_span_a_change_of_contact_state() -> None:
     for few in (1, 2, 3, 9):  # short runs: every sample, no window
         rr = cl.simulate(c, 1e-5 * (few - 1) if few > 1 else 1e-9, t_out=r.t[:few])
         assert direct(c, rr, np.zeros((few, c.ncp, 2)))[0] == few
+
+
+@pytest.mark.parametrize("case", ["crane tsit5", "crane vern7", "rattling dopri5"])
+def test_samples_note_the_step_whose_dense_output_gave_them(monkeypatch, case) -> None:
+    """Outputs.piece, which the windows follow: -1 for the start sample, else the count of
+    the accepted step whose dense output gave the sample (steps cut at contact events
+    included). Oracle: the same run stopped after k attempted steps (max_steps) keeps
+    exactly the samples of the pieces up to its accepted count; fixed steps (rk4) sample
+    on the solution and have no pieces."""
+    import clearance.integrate.simulate as sim
+
+    seen = {}
+    build = sim._build_result
+
+    def spy(c_, ts, Y, CS, PC, *a, **kw):
+        seen["PC"] = PC.copy()
+        return build(c_, ts, Y, CS, PC, *a, **kw)
+
+    monkeypatch.setattr(sim, "_build_result", spy)
+    model, method = case.split()
+    if model == "crane":
+        c, T, kw = cl.compile_mechanism(crane("quintic")), 1.0, dict(dt_out=1e-3, rtol=1e-7)
+    else:  # impacts: steps cut at onsets and separations
+        c = rod_on_clearance_joint(cl.HuntCrossley(restitution=0.8), cl.Coulomb(0.1))
+        T, kw = 0.02, dict(dt_out=2e-5, rtol=1e-7)
+    kw.update(method=method, atol=kw["rtol"] * 1e-3)
+    r = cl.simulate(c, T, **kw)
+    PC = seen["PC"]
+    assert PC[0] == -1 and PC[1] >= 1 and PC[-1] == r.stats["naccept"]
+    assert np.all(np.diff(PC[1:]) >= 0)
+    if model != "crane":
+        assert r.stats["nevents"] > 0 and len(r.impacts("S")) >= 3
+    for k in (1, 2, 3, 5, 8, r.stats["naccept"] // 3, r.stats["naccept"] // 2):
+        rk = cl.simulate(c, T, max_steps=k, **kw)
+        assert rk.t.size == np.count_nonzero(PC <= rk.stats["naccept"])
+    cl.simulate(c, 0.01, method="rk4", step=1e-4, dt_out=1e-3)
+    assert np.all(seen["PC"] == -1)
+
+
+def test_windows_follow_the_steps() -> None:
+    """Smooth samples (a ball swinging free in a 5 mm gap): with one piece throughout the
+    windows are those with no pieces known; pieces of one sample each (steps shorter than
+    the output interval) leave every sample exact; pieces of 25 samples (windows inside
+    each) keep the bound against the exact evaluation."""
+    c = rod_on_clearance_joint(cl.HuntCrossley(restitution=0.8), cl.Coulomb(0.1), clearance=5e-3)
+    r = cl.simulate(c, 0.01, dt_out=1e-5, rtol=1e-7, atol=1e-10)
+    n = r.t.size
+    CS = np.zeros((n, c.ncp, 2))
+    k_none, _ = direct(c, r, CS)
+    assert k_none < n / 2
+    assert direct(c, r, CS, PC=np.ones(n, dtype=np.int64))[0] == k_none
+    assert direct(c, r, CS, PC=np.arange(n, dtype=np.int64))[0] == n
+    PC = np.concatenate([[-1], 1 + np.arange(n - 1) // 25])
+    k_pieces, out = direct(c, r, CS, PC=PC)
+    assert k_pieces < n / 2
+    _, exact = direct(c, r, CS, ptol=0.0)
+    for X, X0 in zip(out[:2] + out[4:], exact[:2] + exact[4:], strict=True):  # (not phi)
+        big = np.abs(X0).max(axis=0)
+        assert np.all(np.abs(X - X0) <= 1e-7 * big + 1e-10)
 
 
 def test_a_non_finite_state_is_never_interpolated_over() -> None:

@@ -438,6 +438,7 @@ def _compile_post_processing(cc: Compiled) -> None:  # pragma: no cover - child
             np.zeros(1),
             np.zeros((1, cc.ny)),
             np.zeros((1, cc.ncp, 2)),
+            np.full(1, -1, dtype=np.int64),
             np.zeros((0, NLOG)),
             np.zeros((cc.nclr, 4)),
             make_work(m),

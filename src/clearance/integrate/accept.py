@@ -13,7 +13,17 @@ from numba import njit
 from clearance.dynamics.rhs import constraint_rows
 from clearance.dynamics.solve import solve_constrained
 from clearance.integrate.events import update_contacts
-from clearance.kinds import CT_IOUT, CT_NLOG, CT_STATUS, CT_T, NSTATS, ST_HMIN, ST_NPROJ, Status
+from clearance.kinds import (
+    CT_IOUT,
+    CT_NLOG,
+    CT_STATUS,
+    CT_T,
+    NSTATS,
+    ST_HMIN,
+    ST_NACC,
+    ST_NPROJ,
+    Status,
+)
 from clearance.kinematics.rotations import quat_rotate_body
 from clearance.layout import CO_DELTA, CO_FN
 
@@ -141,7 +151,8 @@ def start(model, wk, cs, opts, out, t0, y):
 def sample(model, wk, cs, opts, out, i):
     """Finish output i, interpolated into out.Y[i] from the step's dense output: project it
     (the interpolant is off the manifold by its own error) or normalise its quaternions,
-    and record the contact state. Returns the status of the projection."""
+    record the contact state and note the step (out.piece[i]: the accepted steps so far,
+    this one included). Returns the status of the projection."""
     if opts.proj_tol > 0.0:
         st = project(model, wk, out.t_out[i], out.Y[i], opts.solver, opts.proj_tol, np.int64(3))
         if st != 0:
@@ -149,6 +160,7 @@ def sample(model, wk, cs, opts, out, i):
     else:
         normalise_quaternions(model, out.Y[i], out.Y[i, :0])
     record(cs, out, i)
+    out.piece[i] = np.int64(out.stats[ST_NACC])
     return _SUCCESS
 
 

@@ -329,6 +329,7 @@ def simulate(
         t_out[:nout],
         out.Y[:nout],
         out.CS[:nout],
+        out.piece[:nout],
         log[: min(nlog, log.shape[0])],
         out.PK,
         wk,
@@ -462,6 +463,7 @@ def loop_inputs(
         t_out=t_out,
         Y=prefaulted_zeros((t_out.size, c.ny)),
         CS=prefaulted_zeros((t_out.size, c.ncp, 2)),  # per contact point: can be MBs
+        piece=np.full(t_out.size, -1, dtype=np.int64),  # (-1 unless written by accept.sample)
         log=np.zeros((max_events if c.nclr else 0, NLOG)),
         stats=np.zeros(NSTATS),
         PK=np.zeros((c.nclr, 4)),
@@ -518,6 +520,7 @@ def _build_result(
     ts,
     Y,
     CS,
+    PC,
     log,
     PK,
     wk,
@@ -533,8 +536,9 @@ def _build_result(
     ptol=0.0,
     pabs=0.0,
 ) -> Result:
-    """The Result of a loop run: the post-processed quantities (post.py; ptol, pabs: its
-    interpolation tolerance, 0: every sample evaluated) and the energy balance."""
+    """The Result of a loop run: the post-processed quantities (post.py; PC: the dense-output
+    piece of each sample, Outputs.piece; ptol, pabs: the interpolation tolerance, 0: every
+    sample evaluated) and the energy balance."""
     n = ts.size
     m = c.nrow
     blocks = c.joints + c.drivers
@@ -574,6 +578,7 @@ def _build_result(
             ts,
             Y,
             CS,
+            PC,
             n,
             Blocks(blk_row0, blk_nrow, blk_side, blk_pt),
             PostArrays(  # (2-D views: one row per sample)

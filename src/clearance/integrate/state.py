@@ -22,7 +22,8 @@ What every loop must do (clearance.integrate.accept has the shared hooks):
 2. per accepted step: locate contact events on the step's dense output
    (`events.locate_event`, which takes the dense output as data: y, the stages K and the
    weight polynomials P, step h) and cut the step at the earliest one; write the samples
-   inside the step from the dense output with `accept.sample`; then
+   inside the step from the dense output with `accept.sample` (which notes the step in
+   out.piece: the post-processing interpolates between samples of one step only); then
    `accept.after_step(...)` (discrete contact update and event log, quaternion
    normalisation, projection), which says whether y or the discrete state changed (a
    first-same-as-last stage must then be recomputed); then `accept.track_peaks` with the
@@ -71,6 +72,8 @@ class Outputs(NamedTuple):
     t_out: np.ndarray  # (n_out,) requested output times
     Y: np.ndarray  # (n_out, ny) states at t_out
     CS: np.ndarray  # (n_out, ncp, 2) contact flag and impact velocity valid at t_out
+    piece: np.ndarray  # (n_out,) int64: the accepted step whose dense output gave the sample
+    # (its count, from 1), -1 for a sample on the solution itself (the start, fixed steps)
     log: np.ndarray  # (max_events, layout.NLOG) contact event log
     stats: np.ndarray  # (kinds.NSTATS,)
     PK: np.ndarray  # (nclr, 4) largest F_N, its time, largest delta, its time
