@@ -294,14 +294,15 @@ def post_process(model, wk, cs, alpha, beta, solver, ts, Y, CS, PC, n, blk, out,
                 nexact += 1
             s += 1
             continue
-        p = s + 1  # the last sample of the dense-output piece that s + 1 comes from
-        while p < e and PC[p + 1] == PC[s + 1]:
-            p += 1
-        if PC[s + 1] < 0:  # (no step known: one piece)
+        if PC[s + 1] < 0:  # no step known (fixed steps): the segment is one piece
             p = e
-        elif PC[s] != PC[s + 1] and s != fresh:  # a new piece: try it whole, once
-            L = LMAX
-            fresh = s
+        else:  # p: the last sample of the dense-output piece that s + 1 comes from
+            p = s + 1
+            while p < e and PC[p + 1] == PC[s + 1]:
+                p += 1
+            if PC[s] != PC[s + 1] and s != fresh:  # a new piece: try it whole, once
+                L = LMAX
+                fresh = s
         b = min(s + L, p)
         if b - s < 2 * D:  # too short for a window, or a window failed at 2 D: one by one
             last = p if p - s < 2 * D else s + 2 * D
