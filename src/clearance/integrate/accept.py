@@ -147,7 +147,7 @@ def start(model, wk, cs, opts, out, t0, y):
     return _SUCCESS, iout, nlog
 
 
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def sample(model, wk, cs, opts, out, i):
     """Finish output i, interpolated into out.Y[i] from the step's dense output: project it
     (the interpolant is off the manifold by its own error) or normalise its quaternions,

@@ -107,7 +107,7 @@ class PostArrays(NamedTuple):
     POUT: np.ndarray
 
 
-@njit(cache=True, error_model="numpy", nogil=True)
+@njit(cache=True, error_model="numpy", nogil=True, _nrt=False)
 def evaluate(model, wk, cs, alpha, beta, solver, ts, Y, CS, k, blk, yd, out):
     """Fill row k of the PostArrays `out` from sample k: the reaction force and moment
     (world, about the joint point) of each block on its reporting body, the rest as named
