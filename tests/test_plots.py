@@ -325,3 +325,31 @@ def test_figures_render_in_this_process_when_threads_run(loaded, tmp_path, monke
     finally:
         stop.set()
         t.join()
+
+
+def test_drawing_processes_end_on_terminate_whatever_handler_the_parent_has(
+    loaded, tmp_path, monkeypatch
+):
+    """`clearance run` turns SIGTERM into KeyboardInterrupt. A forked drawing process that
+    inherits that handler can outlive Pool.terminate(), and the pool then waits for it
+    forever (seen in the suite). The processes reset both signals: SIGTERM ends them
+    wherever they are, Ctrl-C is the parent's."""
+    import signal
+
+    import clearance.plot.figures as F
+    from clearance.cli.main import _terminate
+
+    if F._jobs(2, 7) < 2:
+        pytest.skip("no forked drawing here")
+
+    def handlers(builders, out_dir, formats):  # (runs in the drawing process)
+        return [(signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGINT))]
+
+    monkeypatch.setattr(F, "_render", handlers)
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        seen = F.start_figures(loaded, tmp_path, jobs=2).result()
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert len(seen) == 6
+    assert set(seen) == {(signal.SIG_DFL, signal.SIG_IGN)}

@@ -28,6 +28,7 @@ from clearance.analysis.plausibility import plausibility
 from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.integrate.methods import ADAPTIVE, resolve_method
 from clearance.integrate.simulate import Interrupted, initial_state, latch_contacts, simulate
+from clearance.io.forks import forked_worker_signals
 from clearance.io.outputs import resolve_outputs
 from clearance.kinds import Status
 from clearance.model.bodies import Marker, quaternion_to_rotation
@@ -425,6 +426,7 @@ def _compile_post_processing(cc: Compiled) -> None:  # pragma: no cover - child
     it on one sample, with arrays of the types `simulate` gives it."""
     import os
 
+    forked_worker_signals()
     try:
         from clearance.contact.element import make_contact_state
         from clearance.dynamics.rhs import make_work
@@ -497,6 +499,7 @@ def _compile_contact_kernels(cc: Compiled, method: str, ready) -> None:  # pragm
     (`ready`), then compile the loops' on-accept hook, which calls them."""
     import os
 
+    forked_worker_signals()
     try:
         from clearance.contact.element import clearance_forces, make_contact_state
         from clearance.dynamics.rhs import make_work

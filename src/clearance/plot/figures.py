@@ -63,6 +63,7 @@ from matplotlib.patches import Circle
 
 from clearance.io.dataset import rotation_matrices
 from clearance.io.files import atomic_path
+from clearance.io.forks import forked_worker_signals
 
 STYLE = {
     "font.size": 9,
@@ -913,7 +914,9 @@ class PendingFigures:
         # the larger figures first, handed out one at a time: the processes finish together
         order = sorted(range(len(builders)), key=lambda i: builders[i][0].startswith("contact"))
         _FORKED = self._serial
-        self._pool = multiprocessing.get_context("fork").Pool(jobs)
+        self._pool = multiprocessing.get_context("fork").Pool(
+            jobs, initializer=forked_worker_signals
+        )
         self._running = self._pool.imap_unordered(_render_one, order)
 
     def result(self) -> list[Path]:
