@@ -183,6 +183,10 @@ def test_ctrl_c_stops_clearance_run_within_a_second_and_writes_the_partial_resul
         stderr=subprocess.STDOUT,
         text=True,
         bufsize=1,
+        # a suite started in the background of a non-interactive shell has SIGINT (and
+        # SIGQUIT) ignored, as POSIX has it for asynchronous commands; the child would
+        # inherit that, and Python then installs no Ctrl-C handler (it happened here)
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     lines = []
     try:
