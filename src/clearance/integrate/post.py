@@ -68,6 +68,7 @@ from numba import njit
 from clearance.contact.element import contact_energy, joint_outputs
 from clearance.dynamics.forces import kinetic_energy, potential_energy
 from clearance.dynamics.rhs import rhs
+from clearance.kinematics.rotations import cross, matvec, sub
 
 #: interpolation degree (D + 1 nodes per window; `_fill` is written out for 4)
 DEGREE = 4
@@ -161,23 +162,13 @@ def evaluate(model, wk, cs, alpha, beta, solver, ts, Y, CS, k, blk, yd, out):
             n1 -= wk.J[r, o + 4] * lr
             n2 -= wk.J[r, o + 5] * lr
         b = model.row_bj[blk_row0[bk]] if side == 1 else model.row_bi[blk_row0[bk]]
-        # n_P = A n' - (A s') x F, written out: array views of wk.bA[b] and blk_pt[bk]
-        # made per block cost ~1 us per sample (the same operations as matvec, cross, sub)
-        bA = wk.bA
-        nw0 = bA[b, 0, 0] * n0 + bA[b, 0, 1] * n1 + bA[b, 0, 2] * n2
-        nw1 = bA[b, 1, 0] * n0 + bA[b, 1, 1] * n1 + bA[b, 1, 2] * n2
-        nw2 = bA[b, 2, 0] * n0 + bA[b, 2, 1] * n1 + bA[b, 2, 2] * n2
-        p0, p1, p2 = blk_pt[bk, 0], blk_pt[bk, 1], blk_pt[bk, 2]
-        s0 = bA[b, 0, 0] * p0 + bA[b, 0, 1] * p1 + bA[b, 0, 2] * p2
-        s1 = bA[b, 1, 0] * p0 + bA[b, 1, 1] * p1 + bA[b, 1, 2] * p2
-        s2 = bA[b, 2, 0] * p0 + bA[b, 2, 1] * p1 + bA[b, 2, 2] * p2
-        o = 3 * bk
-        RF[k, o] = F0
-        RF[k, o + 1] = F1
-        RF[k, o + 2] = F2
-        RM[k, o] = nw0 - (s1 * F2 - s2 * F1)
-        RM[k, o + 1] = nw1 - (s2 * F0 - s0 * F2)
-        RM[k, o + 2] = nw2 - (s0 * F1 - s1 * F0)
+        # n_P = A n' - (A s') x F (array views are free here: no reference counting)
+        A = wk.bA[b]
+        F = (F0, F1, F2)
+        nP = sub(matvec(A, (n0, n1, n2)), cross(matvec(A, blk_pt[bk]), F))
+        for a in range(3):
+            RF[k, 3 * bk + a] = F[a]
+            RM[k, 3 * bk + a] = nP[a]
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
