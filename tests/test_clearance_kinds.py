@@ -8,6 +8,7 @@ slider-crank benchmark by test_slider_crank_clearance.py."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -201,6 +202,59 @@ def test_gap_rate_is_the_derivative_of_the_gap(kind):
     power = float(np.sum(Q * y[14:26].reshape(2, 6)))
     pair = -float(np.sum(po[:, PO_FN] * po[:, PO_DDOT]))
     assert power == pytest.approx(pair, rel=1e-9, abs=1e-12)
+
+
+# every kind with LuGre friction, and the ball in its socket (n = e/|e| turns with the centres)
+LUGRE = cl.LuGre()
+LUGRE_KINDS = {
+    name: (cls, dataclasses.replace(clr, friction=LUGRE)) for name, (cls, clr) in KINDS.items()
+}
+LUGRE_KINDS["spherical"] = (
+    cl.Spherical,
+    cl.SphericalClearance(RJ, radial_clearance=C, normal=HERTZ, friction=LUGRE),
+)
+LUGRE_PLACEMENTS = dict(
+    PLACEMENTS, spherical=((0.6 * (C + 3e-6), 0.8 * (C + 3e-6), 0.0), (0.2, 0.1, -0.3))
+)
+
+
+@pytest.mark.parametrize("kind", list(LUGRE_KINDS))
+def test_lugre_bristles_follow_the_turning_tangent_plane(kind):
+    """d(n . z)/dt = n_dot . z + n . z_dot = 0 at every point in contact, with n_dot from
+    central differences of the kernel's normals along the motion: bristles that start in the
+    tangent plane (z = 0 at onset) stay in it however the contact normal turns, with no
+    projection after the steps (contact/element.py); and only z's tangent part acts (a
+    normal part changes neither the force nor z_dot)."""
+    rng = np.random.default_rng(7)
+    c = cl.compile_mechanism(two_bodies(*LUGRE_KINDS[kind]))
+    y = place(c, rng, *LUGRE_PLACEMENTS[kind])
+    n = evaluate(c, y)[1][:, PO_N : PO_N + 3]
+    z = 1e-6 * rng.normal(size=(c.ncp, 3))
+    z -= np.sum(z * n, axis=1)[:, None] * n  # tangent bristles
+    y[c.iz : c.iz + 3 * c.ncp] = z.ravel()
+    Q, po, yd = evaluate(c, y, flag=1)
+    zd = yd[c.iz : c.iz + 3 * c.ncp].reshape(c.ncp, 3)
+    inc = po[:, PO_DELTA] > 0.0
+    assert inc.any()
+    h = 1e-8
+    nd = (
+        evaluate(c, along_motion(y, h))[1][:, PO_N : PO_N + 3]
+        - evaluate(c, along_motion(y, -h))[1][:, PO_N : PO_N + 3]
+    )
+    nd /= 2 * h
+    turn = np.sum(nd * z, axis=1)[inc]  # what a bristle fixed in space would lose to n
+    # the normal turns (|n_dot| ~ 1e3 1/s for journals and balls, ~0.3 1/s for the walls of
+    # a turning guide or bearing face): far above the rounding of n . z_dot
+    assert np.max(np.abs(turn)) > 1e-10 * np.max(np.abs(zd[inc]))
+    rate = turn + np.sum(n[inc] * zd[inc], axis=1)
+    assert np.max(np.abs(rate)) < 1e-6 * np.max(np.abs(turn))
+    # a normal part of z changes nothing
+    y2 = y.copy()
+    y2[c.iz : c.iz + 3 * c.ncp] = (z + 3e-6 * n).ravel()
+    Q2, _, yd2 = evaluate(c, y2, flag=1)
+    assert np.array_equal(Q2, Q) or np.allclose(Q2, Q, rtol=1e-12, atol=1e-12 * np.max(np.abs(Q)))
+    zd2 = yd2[c.iz : c.iz + 3 * c.ncp]
+    assert np.allclose(zd2, zd.ravel(), rtol=1e-9, atol=1e-12 * np.max(np.abs(zd)))
 
 
 def test_planar_journal_is_the_classic_planar_model():

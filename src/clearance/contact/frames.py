@@ -53,6 +53,14 @@ def point_plane(model, k, br, arm_s0, arm_x, m, d0):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
+def outer_rate(model, k, bw, x):
+    """Rate omega_s x x of a vector x fixed in the outer body s (e.g. the normal of a face of
+    s: point-plane contacts)."""
+    s = model.clr_ix[k, CI_BS]
+    return cross((bw[s, 0], bw[s, 1], bw[s, 2]), x)
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub):
     """delta_dot = n . (v_Q_b - v_Q_s) of the material contact points (u: moving
     attachments)."""

@@ -46,7 +46,7 @@ import math
 
 from numba import njit
 
-from clearance.contact.frames import axis, centres, gap_rate, perp, point_plane
+from clearance.contact.frames import axis, centres, gap_rate, outer_rate, perp, point_plane
 from clearance.kinds import CG_K0, CI_BB, CI_BS, PG_K0
 from clearance.kinematics.rotations import add, cross, dot, scale, sub
 
@@ -98,6 +98,41 @@ def _station(model, p, k, bA, br, arm_s0, arm_b0):
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _station_normal_rate(model, p, k, bA, br, brd, bw, arm_s0, arm_b0, us, ub, n, arm_s):
+    """n_dot of station p (n = v/|v|, v = P_b (X* - P_b), P_b = I - h_b h_b^T), given the
+    geometry from `_station`. X* = Y + R_B u(phi*) moves with s and along the rim as the
+    optimal angle phi* changes; phi*_dot follows from keeping the optimality condition
+    v . t = 0 (t = h_s x u): phi*_dot (R_B |P_b t|^2 - v . u) = -(v_dot|phi . t + v . (w_s x t)),
+    v_dot|phi the rate at fixed phi. Then n_dot = (I - n n^T) v_dot / |v|."""
+    s = model.clr_ix[k, CI_BS]
+    b = model.clr_ix[k, CI_BB]
+    RB = model.clr_geo[k, _RB]
+    hs = axis(bA[s], model.clr_T[k, 0], 2)
+    hb = axis(bA[b], model.clr_T[k, 1], 2)
+    ws = (bw[s, 0], bw[s, 1], bw[s, 2])
+    wb = (bw[b, 0], bw[b, 1], bw[b, 2])
+    ys = add(arm_s0, scale(model.cp_geo[p, _SIG], hs))  # arm of the station centre Y
+    u = scale(1.0 / RB, sub(arm_s, ys))  # X* = Y + R_B u
+    t = cross(hs, u)
+    w = sub(
+        add((br[s, 0], br[s, 1], br[s, 2]), arm_s), add((br[b, 0], br[b, 1], br[b, 2]), arm_b0)
+    )  # X* - P_b
+    v = perp(w, hb)
+    # rates at fixed phi: X* as a point of s, P_b as a point of b, h_b turning with b
+    vx = add(add((brd[s, 0], brd[s, 1], brd[s, 2]), cross(ws, arm_s)), us)
+    vp = add(add((brd[b, 0], brd[b, 1], brd[b, 2]), cross(wb, arm_b0)), ub)
+    hbd = cross(wb, hb)
+    vd = sub(perp(sub(vx, vp), hb), add(scale(dot(w, hb), hbd), scale(dot(w, hbd), hb)))
+    tp = perp(t, hb)
+    curv = RB * dot(tp, tp) - dot(v, u)
+    if curv > 0.0:
+        phid = -(dot(vd, t) + dot(v, cross(ws, t))) / curv
+        vd = add(vd, scale(RB * phid, tp))
+    D = math.sqrt(dot(v, v))
+    return scale(1.0 / D, sub(vd, scale(dot(n, vd), n)))
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _thrust(model, p, k, bA, br, arm_s0, arm_b0):
     """Geometry of thrust point p: (delta, n, arm_s, arm_b)."""
     s = model.clr_ix[k, CI_BS]
@@ -125,7 +160,9 @@ def station_gap(model, p, k, bA, br, fval):
 def station_contact(model, p, k, bA, br, brd, bw, fval):
     arm_s0, arm_b0, us, ub = centres(model, k, bA, fval)
     delta, n, arm_s, arm_b = _station(model, p, k, bA, br, arm_s0, arm_b0)
-    return delta, gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub), n, arm_s, arm_b, us, ub
+    ddot = gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub)
+    nd = _station_normal_rate(model, p, k, bA, br, brd, bw, arm_s0, arm_b0, us, ub, n, arm_s)
+    return delta, ddot, n, arm_s, arm_b, us, ub, nd
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -138,4 +175,5 @@ def thrust_gap(model, p, k, bA, br, fval):
 def thrust_contact(model, p, k, bA, br, brd, bw, fval):
     arm_s0, arm_b0, us, ub = centres(model, k, bA, fval)
     delta, n, arm_s, arm_b = _thrust(model, p, k, bA, br, arm_s0, arm_b0)
-    return delta, gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub), n, arm_s, arm_b, us, ub
+    ddot = gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub)
+    return delta, ddot, n, arm_s, arm_b, us, ub, outer_rate(model, k, bw, n)  # n: -side h_s

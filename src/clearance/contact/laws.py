@@ -55,8 +55,9 @@ Friction laws, `friction_force(law, par, f_n, vt, z) -> (ft, zdot)`:
     5     LUGRE            [sigma0, sigma1, sigma2, mu_c, mu_s, v_s, v_d, vdamp]   (h.4)
                            vdamp = 1: sigma1(v) = sigma1 exp(-(v/v_d)^2); 0: constant
 
-  The caller keeps z in the tangent plane (z -= (z . n_hat) n_hat) and sets it to zero at
-  onset and separation (f.5); friction_force does not know n_hat.
+  The caller passes z's tangent part, carries z with the turning tangent plane (the term
+  -n_hat (n_hat_dot . z) in z_dot, contact/element.py) and sets it to zero at onset and
+  separation (f.5); friction_force does not know n_hat.
 
 Adding a law: (1) an enum member in `clearance.kinds` with the next code, (2) one pure njit
 function of (par, delta, delta_dot, delta_dot_minus, c) -> (f_n, f_el) (and its energy) here

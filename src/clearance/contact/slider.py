@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from clearance.contact.frames import axis, centres, gap_rate, point_plane
+from clearance.contact.frames import axis, centres, gap_rate, outer_rate, point_plane
 from clearance.kinds import CG_K0, CI_BB, CI_BS, PG_K0
 from clearance.kinematics.rotations import add, scale
 
@@ -60,4 +60,5 @@ def corner_gap(model, p, k, bA, br, fval):
 def corner_contact(model, p, k, bA, br, brd, bw, fval):
     arm_s0, arm_b0, us, ub = centres(model, k, bA, fval)
     delta, n, arm_s, arm_b = _corner(model, p, k, bA, br, arm_s0, arm_b0)
-    return delta, gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub), n, arm_s, arm_b, us, ub
+    ddot = gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub)
+    return delta, ddot, n, arm_s, arm_b, us, ub, outer_rate(model, k, bw, n)  # n: a wall of s

@@ -10,11 +10,14 @@ gradient of the elastic energy (virtual work, f.4). delta_dot = n . (v_b^P - v_s
 Joint geometry (Model.clr_geo[k], from column kinds.CG_K0): [R_s, R_b].
 Every contact kind has the same two functions (see `clearance.contact.element`):
 
-    contact(model, p, k, bA, br, brd, bw, fval) -> (delta, delta_dot, n, arm_s, arm_b, u_s, u_b)
+    contact(model, p, k, bA, br, brd, bw, fval)
+        -> (delta, delta_dot, n, arm_s, arm_b, u_s, u_b, n_dot)
     gap(model, p, k, bA, br, fval) -> delta
 
 with arm_s / arm_b the world arms from the mass centres of s and b to the contact points,
-and u_s / u_b the velocities of moving attachment points (A sb_dot, physics.md i).
+u_s / u_b the velocities of moving attachment points (A sb_dot, physics.md i) and n_dot
+the rate of the unit normal (the LuGre bristles are carried with it, element.py). Here
+n_dot = (e_dot - n (n . e_dot)) / |e|.
 """
 
 from __future__ import annotations
@@ -44,7 +47,8 @@ def gap(model, p, k, bA, br, fval):
 
 @njit(cache=True, inline="always", error_model="numpy")
 def contact(model, p, k, bA, br, brd, bw, fval):
-    """(delta, delta_dot, n, arm_s, arm_b, u_s, u_b) of the ball in its socket (f.1, f.2)."""
+    """(delta, delta_dot, n, arm_s, arm_b, u_s, u_b, n_dot) of the ball in its socket (f.1,
+    f.2)."""
     s = model.clr_ix[k, CI_BS]
     b = model.clr_ix[k, CI_BB]
     arm_s0, arm_b0, us, ub = centres(model, k, bA, fval)
@@ -59,7 +63,9 @@ def contact(model, p, k, bA, br, brd, bw, fval):
     vPs = add(add((brd[s, 0], brd[s, 1], brd[s, 2]), cross(ws, arm_s0)), us)
     vPb = add(add((brd[b, 0], brd[b, 1], brd[b, 2]), cross(wb, arm_b0)), ub)
     n = scale(1.0 / el, e) if el > 0.0 else (0.0, 0.0, 0.0)
-    ddot = dot(n, sub(vPb, vPs))  # f.2: n . (v_b^P - v_s^P), > 0 compressing
+    ed = sub(vPb, vPs)
+    ddot = dot(n, ed)  # f.2: n . (v_b^P - v_s^P), > 0 compressing
+    nd = scale(1.0 / el, sub(ed, scale(ddot, n))) if el > 0.0 else (0.0, 0.0, 0.0)
     arm_s = add(arm_s0, scale(model.clr_geo[k, _RS], n))  # socket surface point (f.1)
     arm_b = add(arm_b0, scale(model.clr_geo[k, _RB], n))  # ball surface point
-    return delta, ddot, n, arm_s, arm_b, us, ub
+    return delta, ddot, n, arm_s, arm_b, us, ub, nd

@@ -144,6 +144,7 @@ class _Contact:
     delta: float  # |e| - c [m]
     n: np.ndarray  # e/|e|
     delta_dot: float  # n . (v_ball centre - v_socket centre) [m/s]
+    n_dot: np.ndarray  # d n / dt = (I - n n^T) e_dot / |e| [1/s]
 
 
 def _centres(kin: _Kin, mech: Mechanism, cj: ClearanceJoint):
@@ -156,7 +157,9 @@ def _contact(kin: _Kin, mech: Mechanism, cj: ClearanceJoint) -> _Contact:
     e = Pb.x - Ps.x
     el = float(np.linalg.norm(e))
     n = e / el if el > 0.0 else np.zeros(3)
-    return _Contact(e, el - cj.c, n, float(n @ (Pb.xd - Ps.xd)))
+    ed = Pb.xd - Ps.xd
+    nd = (np.eye(3) - np.outer(n, n)) @ ed / el if el > 0.0 else np.zeros(3)
+    return _Contact(e, el - cj.c, n, float(n @ ed), nd)
 
 
 def _lugre(fr: LuGre, fn: float, vt: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -197,9 +200,11 @@ def _contact_forces(kin, mech, joints, y, in_contact, ddm):
         fn = max(0.0, f_el * (1.0 + cj.xi * ct.delta_dot / max(dm, 1e-12)))  # g.2, no adhesion
         if cj.friction is not None:
             z = y[13 * nb + 3 * k : 13 * nb + 3 * k + 3]
+            z = z - (z @ n) * n  # the bristles act with their tangent part
             ft, zd = _lugre(cj.friction, fn, vt, z)
             ft = ft - (ft @ n) * n  # tangent (f.3)
-            zdot[3 * k : 3 * k + 3] = zd
+            # z is carried with the turning tangent plane: d(n . z)/dt = n_dot . z + n . z_dot = 0
+            zdot[3 * k : 3 * k + 3] = zd - (ct.n_dot @ z) * n
         else:
             ft = np.zeros(3)
         f_ball = -fn * n - ft  # f.3; the socket gets -f_ball
@@ -274,8 +279,9 @@ def contact_state_update(
     mech: Mechanism, y: np.ndarray, in_contact: np.ndarray, ddm: np.ndarray, joints=None
 ) -> bool:
     """Discrete update at an accepted state (physics.md f.5), in place: onset latches
-    delta_dot_minus (floored), separation clears it and resets the LuGre bristles, bristles
-    of joints in contact are kept tangent. Returns True if y or the state changed.
+    delta_dot_minus (floored), separation clears it and resets the LuGre bristles (those in
+    contact follow the tangent plane in the right-hand side). Returns True if y or the state
+    changed.
 
     First-order event capture (no event location): the state changes at the first accepted
     step beyond a crossing, as physics.md f.5 allows without events."""
@@ -293,11 +299,6 @@ def contact_state_update(
             in_contact[k], ddm[k] = False, 0.0
             z[:] = 0.0
             changed = True
-        elif in_contact[k] and cj.friction is not None:
-            zn = float(z @ ct.n)
-            if abs(zn) > 1e-3 * float(np.linalg.norm(z)):
-                z -= zn * ct.n
-                changed = True
     return changed
 
 

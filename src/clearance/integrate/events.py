@@ -46,16 +46,13 @@ from clearance.kinds import (
     CI_P0,
     PG_TOL,
     PG_W,
-    PI_FRIC,
     PI_LAW,
     ST_NFEV,
-    FrictionLaw,
 )
 from clearance.kinematics.rotations import quat_to_rot
 from clearance.kinematics.timefn import eval_timefn
 from clearance.layout import CO_DELTA, CO_FN
 
-_LUGRE = int(FrictionLaw.LUGRE)
 # interior samples of a step at which delta is checked before bracketing a crossing
 # (4: the graze search fits a quartic through the 5 probes)
 _NSAMPLE = 4
@@ -534,8 +531,9 @@ def refine_peaks(model, wk, cs, opts, t, y, K, P, h, xend, PK, stats, ys, yds, c
 @njit(cache=True, error_model="numpy", _nrt=False)
 def update_contacts(model, wk, cs, t, y, log, nlog, located):
     """Discrete update at an accepted state: an onset latches delta_dot_minus (floored) and
-    sets the flag, a separation clears it and zeroes the LuGre bristles; LuGre bristles of
-    points in contact are kept in the tangent plane (h.4). Returns (changed, nlog).
+    sets the flag, a separation clears it and zeroes the LuGre bristles. Returns (changed,
+    nlog). (The bristles of points in contact need no update: the right-hand side carries
+    them with the turning tangent plane, contact/element.py.)
 
     located: the state is a step cut at a located event. An onset there zeroes the LuGre
     bristles too (see below); elsewhere (the start of a run, rk4's steps, SciPy's
@@ -553,49 +551,39 @@ def update_contacts(model, wk, cs, t, y, log, nlog, located):
         _pose_at(model, wk, b, y, np.bool_(True))
         _slides(model, wk, k, t)
         for p in range(model.clr_ix[k, CI_P0], model.clr_ix[k, CI_P0] + model.clr_ix[k, CI_NP]):
-            # the gap alone (positions) decides; the rates and the normal only where needed
-            event = _wants(cs.flag[p], gap_of(model, p, wk.bA, wk.br, wk.fval))
-            lugre = cs.flag[p] == 1 and model.cp_ix[p, PI_FRIC] == _LUGRE
-            if not (event or lugre):
+            # the gap alone (positions) decides; the rate only at an event
+            if not _wants(cs.flag[p], gap_of(model, p, wk.bA, wk.br, wk.fval)):
                 continue
-            _, ddot, n, _, _, _, _ = point_contact(model, p, wk.bA, wk.br, wk.brd, wk.bw, wk.fval)
+            ddot = point_contact(model, p, wk.bA, wk.br, wk.brd, wk.bw, wk.fval)[1]
             zi = iz + 3 * p
-            if event:
-                if cs.flag[p] == 0:
-                    cs.flag[p] = 1
-                    cs.ddm[p] = max(ddot, model.clr_geo[k, CG_VFLOOR])
-                    # LuGre bristles touch unloaded: z = 0 all through the flight (reset at
-                    # the separation, z_dot = 0 out of contact), but the step cut at this
-                    # onset interpolates z from stages beyond it, where z_dot = v_t already
-                    # acts (up to ~1e-7 m against z ~ 1e-6 m), which made the default
-                    # scenario's early error erratic in rtol
-                    if located:
-                        y[zi] = 0.0
-                        y[zi + 1] = 0.0
-                        y[zi + 2] = 0.0
-                    kind = 1.0
-                else:
-                    cs.flag[p] = 0
-                    cs.ddm[p] = 0.0
+            if cs.flag[p] == 0:
+                cs.flag[p] = 1
+                cs.ddm[p] = max(ddot, model.clr_geo[k, CG_VFLOOR])
+                # LuGre bristles touch unloaded: z = 0 all through the flight (reset at
+                # the separation, z_dot = 0 out of contact), but the step cut at this
+                # onset interpolates z from stages beyond it, where z_dot = v_t already
+                # acts (up to ~1e-7 m against z ~ 1e-6 m), which made the default
+                # scenario's early error erratic in rtol
+                if located:
                     y[zi] = 0.0
                     y[zi + 1] = 0.0
                     y[zi + 2] = 0.0
-                    kind = -1.0
-                changed = True
-                if nlog < log.shape[0]:
-                    e, _ = eccentricity(model, k, wk.bA, wk.br, wk.fval)
-                    log[nlog, 0] = t
-                    log[nlog, 1] = p
-                    log[nlog, 2] = kind
-                    log[nlog, 3] = ddot
-                    for a in range(3):
-                        log[nlog, 4 + a] = e[a]
-                nlog += 1
-            else:  # LuGre in contact
-                zn = y[zi] * n[0] + y[zi + 1] * n[1] + y[zi + 2] * n[2]
-                zz = math.sqrt(y[zi] ** 2 + y[zi + 1] ** 2 + y[zi + 2] ** 2)
-                if abs(zn) > 1e-3 * zz:
-                    for a in range(3):
-                        y[zi + a] -= zn * n[a]
-                    changed = True
+                kind = 1.0
+            else:
+                cs.flag[p] = 0
+                cs.ddm[p] = 0.0
+                y[zi] = 0.0
+                y[zi + 1] = 0.0
+                y[zi + 2] = 0.0
+                kind = -1.0
+            changed = True
+            if nlog < log.shape[0]:
+                e, _ = eccentricity(model, k, wk.bA, wk.br, wk.fval)
+                log[nlog, 0] = t
+                log[nlog, 1] = p
+                log[nlog, 2] = kind
+                log[nlog, 3] = ddot
+                for a in range(3):
+                    log[nlog, 4 + a] = e[a]
+            nlog += 1
     return changed, nlog

@@ -124,7 +124,7 @@ def contact_state(c: Compiled) -> ContactState:
 
 def latch_contacts(c: Compiled, cs: ContactState, t: float, y: np.ndarray) -> bool:
     """The discrete update of the own integrators at an accepted state (t, y): latch onsets
-    and clear separations in cs, reset or project LuGre bristles in y (in place). Returns
+    and clear separations in cs, reset LuGre bristles in y at separations (in place). Returns
     True if cs or y changed."""
     from clearance.integrate.events import update_contacts
 
