@@ -26,10 +26,12 @@ delta_dot_minus latched at its onset (floored, f.5). Before the integrator has l
 onset (trial stages beyond it) the current approach velocity stands in for it.
 
 LuGre bristles (physics.md h.4) live in the tangent plane, which turns with n. The plane is
-followed in the right-hand side, not by projecting z after accepted steps (f.5): z_dot gets
-the transport term -n (n_dot . z), which keeps n . z constant (zero from the onset: z = 0
-there), and the law sees the tangent part z - (n . z) n, so the integration error's drift
-of n . z acts nowhere. A projection after each step is this term's first-order splitting,
+followed in the right-hand side, not by projecting z after accepted steps (f.5). With
+z = z_t + a n (z_t tangent, a = n . z; a = 0 from the onset, where z = 0, but integration
+error makes it drift slightly), the law sees z_t only and z_dot gets the transport terms
+-n (n_dot . z_t) + a n_dot: z_t follows the turning plane, a n turns with n, so a keeps its
+value and z_t evolves as if a were zero (without the second term a would leak into z_t
+as n turns, -a n_dot). A projection after each step is the first term's splitting,
 done only when |n . z| > 1e-3 |z| as before: the friction force then depended on the step
 sequence (1e-3 of z), and on the default scenario the error of dop853 and vern7 levelled
 off at 2-6e-9 m of eccentricity (rtol 1e-9 .. 1e-10; tsit5 4e-10 m), projecting at every
@@ -213,14 +215,16 @@ def _apply(model, y, wk, cs, ydot, p, geometry):
     fn = wgt * fn
     fel = wgt * fel
     zw = (y[zi], y[zi + 1], y[zi + 2])
-    z = sub(zw, scale(dot(zw, n), n))  # the bristles' tangent part (module docstring)
+    zn = dot(zw, n)
+    z = sub(zw, scale(zn, n))  # the bristles' tangent part (module docstring)
     ft, zd = friction_force(model.cp_ix[p, PI_FRIC], model.cp_par[p, 1], fn, vt, z)
     ft = sub(ft, scale(dot(ft, n), n))  # keep the friction force tangent (f.3)
     if model.cp_ix[p, PI_FRIC] == _LUGRE:
-        tr = dot(nd, z)  # carried with the turning tangent plane: d(n . z)/dt = 0
-        ydot[zi] = zd[0] - tr * n[0]
-        ydot[zi + 1] = zd[1] - tr * n[1]
-        ydot[zi + 2] = zd[2] - tr * n[2]
+        # carried with the turning plane: d(n . z)/dt = 0, d z_t/dt = P zd (module docstring)
+        tr = dot(nd, z)
+        ydot[zi] = zd[0] - tr * n[0] + zn * nd[0]
+        ydot[zi + 1] = zd[1] - tr * n[1] + zn * nd[1]
+        ydot[zi + 2] = zd[2] - tr * n[2] + zn * nd[2]
     fb = sub(scale(-fn, n), ft)  # on the inner body, at Q_b
     add_force(wk.Q, b, bA, fb, arm_b)
     add_force(wk.Q, s, bA, scale(-1.0, fb), arm_s)

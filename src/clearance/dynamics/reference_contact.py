@@ -200,11 +200,13 @@ def _contact_forces(kin, mech, joints, y, in_contact, ddm):
         fn = max(0.0, f_el * (1.0 + cj.xi * ct.delta_dot / max(dm, 1e-12)))  # g.2, no adhesion
         if cj.friction is not None:
             z = y[13 * nb + 3 * k : 13 * nb + 3 * k + 3]
-            z = z - (z @ n) * n  # the bristles act with their tangent part
-            ft, zd = _lugre(cj.friction, fn, vt, z)
+            a = float(z @ n)
+            zt = z - a * n  # the bristles act with their tangent part
+            ft, zd = _lugre(cj.friction, fn, vt, zt)
             ft = ft - (ft @ n) * n  # tangent (f.3)
-            # z is carried with the turning tangent plane: d(n . z)/dt = n_dot . z + n . z_dot = 0
-            zdot[3 * k : 3 * k + 3] = zd - (ct.n_dot @ z) * n
+            # z_t carried with the turning tangent plane, a n turned with n: a stays constant
+            # (d(n . z)/dt = n_dot . z + n . z_dot = 0) and d z_t/dt does not depend on a
+            zdot[3 * k : 3 * k + 3] = zd - (ct.n_dot @ zt) * n + a * ct.n_dot
         else:
             ft = np.zeros(3)
         f_ball = -fn * n - ft  # f.3; the socket gets -f_ball
