@@ -221,6 +221,30 @@ def test_lugre_contacts_converge_with_rtol():
     assert err[0] < 2e-7 and err[1] < 3e-8 and err[2] < 5e-11, err
 
 
+def test_lugre_bristles_start_at_the_located_onset():
+    """The state of a located onset can sit a rounding below delta = 0 (here -7e-18 m).
+    The bristle rate must follow the latched contact, not the sign of delta: when it
+    switched on only at delta > 0, the first step after the onset started z late, and z
+    then lagged the reference by 1.2e-9 m (56 % of z 1e-7 s after the onset), which
+    spoilt the friction of the whole contact: the rod's velocity after its first impact was
+    off by 5e-5 m/s at rtol 1e-7 (max_step 6e-5). Now z is within rounding of the
+    reference (measured 1.5e-18 m) and the velocity within 7e-7 m/s."""
+    c = rod_on_clearance_joint(
+        cl.Flores(restitution=0.8), cl.LuGre(), ball_radius=0.015, clearance=0.3e-3
+    )
+    T = 0.0045  # the first impact: onset at 3.877 ms, separation at 3.991 ms
+    ref = cl.simulate(c, T, rtol=1e-12, atol=1e-15, method="dopri5", t_out=[0.0, T])
+    ton = ref.events[0, 0]
+    assert ref.events[0, 2] == 1.0 and 0.0038 < ton < 0.0039
+    t_out = [0.0, ton + 1e-7, ton + 1e-6, T]
+    ref = cl.simulate(c, T, rtol=1e-12, atol=1e-15, method="dopri5", t_out=t_out)
+    r = cl.simulate(c, T, rtol=1e-7, atol=1e-10, method="dopri5", t_out=t_out, max_step=6e-5)
+    for k in (1, 2):
+        z, zr = r.bristle[k, 0], ref.bristle[k, 0]
+        assert np.linalg.norm(z - zr) < 1e-3 * np.linalg.norm(zr), (k, z, zr)
+    assert np.max(np.abs(r.v[-1] - ref.v[-1])) < 5e-6
+
+
 def test_lugre_persistent_contact_converges_with_rtol():
     """A pendulum swinging and spinning with its ball pressed into the socket (Flores +
     LuGre, no events): the contact normal turns all the time, and the bristles follow the
