@@ -71,6 +71,57 @@ def _stage(A, K, s, y, h, ytmp):
         ytmp[i] = y[i] + h * ytmp[i]
 
 
+@njit(cache=True, error_model="numpy", nogil=True)
+def _stages(model, wk, cs, alpha, beta, solver, A, C, K, s0, s1, t, y, h, ytmp, stats):
+    """Stages s0 .. s1 - 1 of a step of size h from (t, y) into K. Returns the first failing
+    rhs status, 0 if none failed."""
+    for s in range(s0, s1):
+        _stage(A, K, s, y, h, ytmp)
+        st = rhs(t + C[s] * h, ytmp, model, wk, cs, alpha, beta, solver, K[s])
+        stats[ST_NFEV] += 1
+        if st != 0:
+            return st
+    return 0
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _solution(B, K, ns, y, h, ynew):
+    """ynew = y + h sum_k B[k] K[k] over the ns stages (zero weights skipped)."""
+    ny = y.shape[0]
+    b = B[0]
+    for i in range(ny):
+        ynew[i] = b * K[0, i]
+    for k in range(1, ns):
+        b = B[k]
+        if b != 0.0:
+            for i in range(ny):
+                ynew[i] += b * K[k, i]
+    for i in range(ny):
+        ynew[i] = y[i] + h * ynew[i]
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def _end_stages(
+    model, wk, cs, alpha, beta, solver, A, C, K, P, ns, t, y, h, ynew, ytmp, cout, stats, dense
+):
+    """Stage ns = f(t + h, y_new) and, if dense, the dense output's extra stages, leaving
+    wk.cout as f(t + h, y_new) made it (cout: scratch). Returns the first failing rhs
+    status, 0 if none failed."""
+    st = rhs(t + h, ynew, model, wk, cs, alpha, beta, solver, K[ns])
+    stats[ST_NFEV] += 1
+    if st == 0 and dense:
+        for a in range(cout.shape[0]):
+            for c in range(cout.shape[1]):
+                cout[a, c] = wk.cout[a, c]
+        st = _stages(
+            model, wk, cs, alpha, beta, solver, A, C, K, ns + 1, P.shape[0], t, y, h, ytmp, stats
+        )
+        for a in range(cout.shape[0]):  # as if f(t + h, y_new) were the last evaluation
+            for c in range(cout.shape[1]):
+                wk.cout[a, c] = cout[a, c]
+    return st
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _err_norm(K, E3, E5, ns, y, ynew, n, h, rtol, atol):
     """The error norm of a step over its ns stages (scaled by atol + rtol max(|y|,
@@ -166,27 +217,11 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
             return _STEP_UNDERFLOW, iout, t, nlog
         if t + 1.01 * h >= t_end:
             h = t_end - t
-        bad = False
-        for s in range(1, ns):
-            _stage(A, K, s, y, h, ytmp)
-            st = rhs(t + C[s] * h, ytmp, model, wk, cs, alpha, beta, solver, K[s])
-            stats[ST_NFEV] += 1
-            if st != 0:
-                bad = True
-                break
+        bad = _stages(model, wk, cs, alpha, beta, solver, A, C, K, 1, ns, t, y, h, ytmp, stats) != 0
         nsteps += 1
         en = 0.0
         if not bad:
-            b = B[0]
-            for i in range(ny):
-                ynew[i] = b * K[0, i]
-            for k in range(1, ns):
-                b = B[k]
-                if b != 0.0:
-                    for i in range(ny):
-                        ynew[i] += b * K[k, i]
-            for i in range(ny):
-                ynew[i] = y[i] + h * ynew[i]
+            _solution(B, K, ns, y, h, ynew)
             en = _err_norm(K, E3, E5, ns, y, ynew, nerr, h, rtol, atol)
             if not np.isfinite(en):
                 bad = True
@@ -205,21 +240,28 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
             continue
         # passed: stage ns = f(t + h, y_new) (the next step's stage 0 unless y changes); a
         # failure here or in the dense stages rejects the step, as a stage of erk54 does
-        st = rhs(t + h, ynew, model, wk, cs, alpha, beta, solver, K[ns])
-        stats[ST_NFEV] += 1
-        if st == 0 and (model.nclr > 0 or (iout < nout and t_out[iout] <= t + h)):
-            for a in range(cout.shape[0]):
-                for c in range(cout.shape[1]):
-                    cout[a, c] = wk.cout[a, c]
-            for s in range(ns + 1, P.shape[0]):  # the dense output's extra stages
-                _stage(A, K, s, y, h, ytmp)
-                st = rhs(t + C[s] * h, ytmp, model, wk, cs, alpha, beta, solver, K[s])
-                stats[ST_NFEV] += 1
-                if st != 0:
-                    break
-            for a in range(cout.shape[0]):  # as if f(t + h, y_new) were the last evaluation
-                for c in range(cout.shape[1]):
-                    wk.cout[a, c] = cout[a, c]
+        dense = model.nclr > 0 or (iout < nout and t_out[iout] <= t + h)
+        st = _end_stages(
+            model,
+            wk,
+            cs,
+            alpha,
+            beta,
+            solver,
+            A,
+            C,
+            K,
+            P,
+            ns,
+            t,
+            y,
+            h,
+            ynew,
+            ytmp,
+            cout,
+            stats,
+            dense,
+        )
         if st != 0:
             stats[ST_NREJ] += 1
             h *= 0.25
@@ -230,17 +272,42 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
         stats[ST_HMIN] = min(stats[ST_HMIN], h)
         stats[ST_HMAX] = max(stats[ST_HMAX], h)
         xev = 2.0
+        hstep = h
         if model.nclr > 0:
             xev, _ = locate_event(model, wk, cs, t, y, K, P, h, rtol)
-            refine_peaks(
-                model, wk, cs, opts, t, y, K, P, h, min(xev, 1.0), out.PK, stats, ytmp, yd2, cout
-            )
-        if xev <= 1.0:
-            interpolate(y, K, P, h, xev, ynew, w)
-            tnew = t + xev * h
-            stats[ST_NEVT] += 1
-        else:
-            tnew = t + h
+            if xev <= 1.0:  # redo the step up to the event (erk.py's module docstring)
+                h = xev * h
+                st = _stages(
+                    model, wk, cs, alpha, beta, solver, A, C, K, 1, ns, t, y, h, ytmp, stats
+                )
+                if st == 0:
+                    _solution(B, K, ns, y, h, ynew)
+                    st = _end_stages(
+                        model,
+                        wk,
+                        cs,
+                        alpha,
+                        beta,
+                        solver,
+                        A,
+                        C,
+                        K,
+                        P,
+                        ns,
+                        t,
+                        y,
+                        h,
+                        ynew,
+                        ytmp,
+                        cout,
+                        stats,
+                        np.bool_(True),
+                    )
+                if st != 0:
+                    return _SINGULAR, iout, t, nlog
+                stats[ST_NEVT] += 1
+            refine_peaks(model, wk, cs, opts, t, y, K, P, h, 1.0, out.PK, stats, ytmp, yd2, cout)
+        tnew = t + h
         while iout < nout and t_out[iout] <= tnew:
             interpolate(y, K, P, h, (t_out[iout] - t) / h, out.Y[iout], w)
             if sample(model, wk, cs, opts, out, iout) != _SUCCESS:
@@ -262,7 +329,7 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
                 K[0, i] = K[ns, i]
         track_peaks(wk, t, out.PK, np.bool_(False))
         if rejected:
-            hnew = min(hnew, h)
+            hnew = min(hnew, hstep)
         rejected = False
         h = min(hnew, hmax)
         stats[ST_HLAST] = h
