@@ -277,35 +277,45 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
             xev, _ = locate_event(model, wk, cs, t, y, K, P, h, rtol)
             if xev <= 1.0:  # redo the step up to the event (erk.py's module docstring)
                 h = xev * h
-                st = _stages(
-                    model, wk, cs, alpha, beta, solver, A, C, K, 1, ns, t, y, h, ytmp, stats
-                )
-                if st == 0:
-                    _solution(B, K, ns, y, h, ynew)
-                    st = _end_stages(
-                        model,
-                        wk,
-                        cs,
-                        alpha,
-                        beta,
-                        solver,
-                        A,
-                        C,
-                        K,
-                        P,
-                        ns,
-                        t,
-                        y,
-                        h,
-                        ynew,
-                        ytmp,
-                        cout,
-                        stats,
-                        np.bool_(True),
+                while True:
+                    st = _stages(
+                        model, wk, cs, alpha, beta, solver, A, C, K, 1, ns, t, y, h, ytmp, stats
                     )
+                    if st != 0:
+                        return _SINGULAR, iout, t, nlog
+                    _solution(B, K, ns, y, h, ynew)
+                    e_ev = _err_norm(K, E3, E5, ns, y, ynew, nerr, h, rtol, atol)
+                    if e_ev <= 1.0:
+                        break
+                    xev = 2.0  # a shorter step, short of the event (erk.py)
+                    h *= max(0.2, 0.9 * e_ev**-expo1) if np.isfinite(e_ev) else 0.25
+                    if h < opts.hmin:
+                        return _STEP_UNDERFLOW, iout, t, nlog
+                st = _end_stages(
+                    model,
+                    wk,
+                    cs,
+                    alpha,
+                    beta,
+                    solver,
+                    A,
+                    C,
+                    K,
+                    P,
+                    ns,
+                    t,
+                    y,
+                    h,
+                    ynew,
+                    ytmp,
+                    cout,
+                    stats,
+                    np.bool_(True),
+                )
                 if st != 0:
                     return _SINGULAR, iout, t, nlog
-                stats[ST_NEVT] += 1
+                if xev <= 1.0:
+                    stats[ST_NEVT] += 1
             refine_peaks(model, wk, cs, opts, t, y, K, P, h, 1.0, out.PK, stats, ytmp, yd2, cout)
         tnew = t + h
         while iout < nout and t_out[iout] <= tnew:
