@@ -270,7 +270,7 @@ def main(argv: list[str] | None = None) -> int:
     st = r.stats
     print(
         f"own {kw['method']}: {st['naccept']} accepted, {st['nreject']} rejected steps, "
-        f"{st['nevents']} contact events; platform position at {t_b:g} s, own vs baseline: "
+        f"{st['nevents']} event cuts; platform position at {t_b:g} s, own vs baseline: "
         f"max diff {diff:.1e} m (different event handling: located events vs first-order "
         "capture at accepted steps)"
     )

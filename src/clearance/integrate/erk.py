@@ -261,6 +261,9 @@ def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
                             return _STEP_UNDERFLOW, iout, t, nlog
                     if xev <= 1.0:
                         stats[ST_NEVT] += 1
+                    # the peak search reads the gap probes of the step it is given: probe the
+                    # redone one (its event, at x = 1, needs no new location)
+                    locate_event(model, wk, cs, t, y, K, P, h, rtol)
                 refine_peaks(
                     model, wk, cs, opts, t, y, K, P, h, 1.0, out.PK, stats, ytmp, err, cout
                 )

@@ -316,6 +316,9 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
                     return _SINGULAR, iout, t, nlog
                 if xev <= 1.0:
                     stats[ST_NEVT] += 1
+                # the peak search reads the gap probes of the step it is given: probe the
+                # redone one (its event, at x = 1, needs no new location)
+                locate_event(model, wk, cs, t, y, K, P, h, rtol)
             refine_peaks(model, wk, cs, opts, t, y, K, P, h, 1.0, out.PK, stats, ytmp, yd2, cout)
         tnew = t + h
         while iout < nout and t_out[iout] <= tnew:
