@@ -29,6 +29,7 @@ LAYERS = [
     {"analysis"},  # assembly, velocity analysis, inverse kinematics
     {"store"},  # Result and its channels
     {"integrate"},  # integrators, simulate()
+    {"parallel"},  # the parallel-mechanism builder (legs from joint strings, mobility)
     {"<root>"},  # clearance/__init__.py: the public API (re-exports of the core)
     {"io"},  # files: NetCDF, CSV, MAT
     {"mechanisms"},  # ready-made mechanisms
@@ -51,7 +52,7 @@ CORE = {
     "store",
     "integrate",
 }
-NOT_FROM_CORE = {"io", "plot", "sweep", "cli", "scenario", "pipeline", "mechanisms"}
+NOT_FROM_CORE = {"io", "plot", "sweep", "cli", "scenario", "pipeline", "mechanisms", "parallel"}
 KERNELS = {"kinematics", "constraints", "contact", "dynamics", "integrate", "compile"}
 
 

@@ -218,7 +218,43 @@ def ground_as_j(seed: int = 3) -> cl.Mechanism:
     return m
 
 
+def revolute_drivers(seed: int = 4) -> cl.Mechanism:
+    """Two cranks on revolute joints with random ground triads, driven by RevoluteDrivers
+    (a Sinusoid, a Ramp), one on a cylindrical joint; a rod joins them by spherical
+    joints. The reference writes the row with the ground triad directly, the kernel
+    through z-x-z angles."""
+    rng = np.random.default_rng(seed)
+    m = cl.Mechanism("revolute_drivers", gravity=(0.0, -9.81, 0.0))
+    fns = (cl.Sinusoid(0.4, 2.1, 0.3, 0.2), cl.Ramp(-0.2, 0.9, 0.1, 1.7, "cycloidal"))
+    for k, (J, fn) in enumerate(zip((cl.Revolute, cl.Cylindrical), fns, strict=True)):
+        n = f"c{k}"
+        m.add(
+            cl.Body(
+                n,
+                float(rng.uniform(0.5, 2.0)),
+                _inertia(rng),
+                position=tuple(rng.standard_normal(3)),
+                orientation=_rot(rng),
+            ),
+            cl.Marker(f"g{k}", cl.GROUND, tuple(rng.standard_normal(3)), _rot(rng)),
+            cl.Marker(f"{n}_h", n, tuple(0.3 * rng.standard_normal(3)), _rot(rng)),
+            J(f"j{k}", f"g{k}", f"{n}_h"),
+            cl.RevoluteDriver(f"motor{k}", f"j{k}", fn),
+        )
+    m.add(
+        cl.Body("rod", 1.0, _inertia(rng), position=(0.1, 0.2, 0.3), orientation=_rot(rng)),
+        cl.Marker("c0_s", "c0", (0.2, 0.0, 0.1)),
+        cl.Marker("rod_a", "rod", (0.0, 0.0, -0.3)),
+        cl.Spherical("sa", "c0_s", "rod_a"),
+        cl.Marker("c1_s", "c1", (0.1, -0.1, 0.0)),
+        cl.Marker("rod_b", "rod", (0.0, 0.0, 0.3)),
+        cl.Spherical("sb", "c1_s", "rod_b"),
+    )
+    return m
+
+
 MECHANISMS = {
+    "revolute_drivers": revolute_drivers,
     "double_pendulum": double_pendulum,
     "all_joints": all_joints,
     "pose_drivers": pose_drivers,

@@ -46,6 +46,7 @@ from clearance.model import (
     Prismatic,
     PrismaticDriver,
     Revolute,
+    RevoluteDriver,
     Spherical,
     SpringDamper,
     TimeFunction,
@@ -85,6 +86,15 @@ from clearance.model.contact_laws import (
     ZhiyingQishao,
 )
 from clearance.model.functions import Polynomial, Ramp, Sinusoid, Tabulated
+from clearance.parallel import (
+    Leg,
+    Link,
+    Mobility,
+    ParallelMechanism,
+    Platform,
+    circle,
+    legs,
+)
 from clearance.store.result import Result
 
 __version__ = "0.1.0"
@@ -119,6 +129,7 @@ __all__ = [
     "Prismatic",
     "PrismaticDriver",
     "Revolute",
+    "RevoluteDriver",
     "Spherical",
     "SpringDamper",
     "TimeFunction",
@@ -158,6 +169,13 @@ __all__ = [
     "Threlfall",
     "Stribeck",
     "LuGre",
+    "ParallelMechanism",
+    "Platform",
+    "Leg",
+    "Link",
+    "Mobility",
+    "circle",
+    "legs",
     "__version__",
 ]
 

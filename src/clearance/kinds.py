@@ -46,6 +46,7 @@ class DriverType(IntEnum):
     POSITION = 2
     ORIENTATION = 3
     OFFSET = 4
+    REVOLUTE = 5
 
 
 class ForceType(IntEnum):

@@ -3,7 +3,8 @@
 A prescribed platform trajectory becomes actuator displacement histories by the package's own
 kinematic analysis (physics.md e.1), never by a mechanism-specific formula:
 
-1. the actuator drivers (`PrismaticDriver`s of the legs) are removed (`Mechanism.without`);
+1. the actuator drivers (`PrismaticDriver`s of the legs, `RevoluteDriver`s of base-mounted
+   motors) are removed (`Mechanism.without`);
 2. pose drivers are put on a platform marker: three `PositionDriver`s x(t), y(t), z(t)
    (world coordinates of the marker point) and one `OrientationDriver` (mode "axis": only
    the marker's h axis = platform normal, two tilts, twist left to the mechanism, as the
@@ -14,7 +15,8 @@ kinematic analysis (physics.md e.1), never by a mechanism-specific formula:
 4. each actuator's displacement s = h_i . d is read with the removed driver's own row
    (the original mechanism compiled with f = 0), and its rates with the read-out formulas
    s_dot = g_q v + g_t, s_ddot = g_q v_dot - gamma_g (physics.md e.1): exact, no finite
-   differences;
+   differences; a motor angle (RevoluteDriver) is read from the triads, theta =
+   atan2(g_i . f_j, f_i . f_j), with theta_dot = h_i . omega_j, theta_ddot = h_i . alpha_j;
 5. `drives_from_ik` turns (s, s_dot, s_ddot) into C2 quintic `HermiteSpline`s and
    `apply_drives` puts them into the (ideal or clearance) mechanism.
 
@@ -43,7 +45,12 @@ from clearance.analysis.assembly import (
 )
 from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.model.bodies import GROUND, Marker, quaternion_to_rotation
-from clearance.model.drivers import OrientationDriver, PositionDriver, PrismaticDriver
+from clearance.model.drivers import (
+    OrientationDriver,
+    PositionDriver,
+    PrismaticDriver,
+    RevoluteDriver,
+)
 from clearance.model.errors import KinematicsError, ModelError
 from clearance.model.functions import Constant, HermiteSpline, Sinusoid, TimeFunction, as_function
 from clearance.model.mechanism import Mechanism
@@ -60,6 +67,7 @@ __all__ = [
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 SHAPES = ("cosine", "sin")
+ORIENTATION_MODES = ("full", "axis", "none")
 
 
 def _rot(axis: int, th: float) -> np.ndarray:
@@ -88,7 +96,10 @@ class PlatformTrajectory:
     about h, the twist, is left to the mechanism, e.g. the 4UPS-UPU's UPU leg; for
     sequence "xyz" and angles (alpha, beta, 0) this is the normal of Rx(alpha) Ry(beta)).
     mode "full": the marker triad is R(t) (e.g. 4-SPS/CU: sequence "zxy", angles
-    (psi, t1, t2)). Numbers are accepted for constant functions.
+    (psi, t1, t2)); mode "none": the orientation is left to the mechanism (a Delta robot's
+    platform translates). positions: the coordinates of the point that are prescribed
+    (default all three); the others are left to the mechanism (a 3-RPS prescribes z and
+    the two tilts; its x, y and twist follow). Numbers are accepted for constant functions.
     """
 
     x: TimeFunction
@@ -97,14 +108,27 @@ class PlatformTrajectory:
     angles: tuple = (0.0, 0.0, 0.0)
     sequence: str = "xyz"
     mode: str = "axis"
+    positions: tuple = ("x", "y", "z")
 
     def __post_init__(self) -> None:
         who = "PlatformTrajectory"
         for name in ("x", "y", "z"):
             object.__setattr__(self, name, as_function(getattr(self, name), owner=who, field=name))
-        # OrientationDriver validates sequence, mode and angles with named messages
-        od = OrientationDriver("trajectory", "platform", self.angles, self.sequence, self.mode)
+        if self.mode not in ORIENTATION_MODES:
+            raise ModelError(who, "mode", self.mode, f"allowed: {ORIENTATION_MODES}")
+        # OrientationDriver validates sequence and angles with named messages
+        mode = "full" if self.mode == "none" else self.mode
+        od = OrientationDriver("trajectory", "platform", self.angles, self.sequence, mode)
         object.__setattr__(self, "angles", od.angles)
+        pos = self.positions
+        if isinstance(pos, str) or not all(p in _AXES for p in pos) or len(set(pos)) != len(pos):
+            raise ModelError(who, "positions", pos, "expected distinct names from 'x', 'y', 'z'")
+        object.__setattr__(self, "positions", tuple(p for p in "xyz" if p in pos))
+
+    @property
+    def nrows(self) -> int:
+        """Number of prescribed pose coordinates (the platform DOF it drives)."""
+        return len(self.positions) + {"full": 3, "axis": 2, "none": 0}[self.mode]
 
     def position(self, t: float) -> np.ndarray:
         """(3,) prescribed marker point, world frame [m]."""
@@ -262,15 +286,23 @@ def _unique(mech: Mechanism, base: str) -> str:
     return name
 
 
+# drivers that can be actuators: a joint coordinate (slider travel, motor angle)
+ACTUATOR_DRIVERS = (PrismaticDriver, RevoluteDriver)
+
+
 def _check_actuators(mech: Mechanism, actuators: Sequence[str]) -> tuple[str, ...]:
     who = "inverse_kinematics"
     if isinstance(actuators, str) or not len(actuators):
-        raise ModelError(who, "actuators", actuators, "expected a list of PrismaticDriver names")
+        raise ModelError(
+            who, "actuators", actuators, "expected a list of PrismaticDriver / RevoluteDriver names"
+        )
     acts = tuple(actuators)
-    prism = [n for n, d in mech.drivers.items() if isinstance(d, PrismaticDriver)]
+    prism = [n for n, d in mech.drivers.items() if isinstance(d, ACTUATOR_DRIVERS)]
     for a in acts:
         if a not in prism:
-            raise ModelError(who, "actuators", a, f"not a PrismaticDriver; known: {prism}")
+            raise ModelError(
+                who, "actuators", a, f"not a PrismaticDriver or RevoluteDriver; known: {prism}"
+            )
     if len(set(acts)) != len(acts):
         raise ModelError(who, "actuators", acts, "names must not repeat")
     return acts
@@ -313,6 +345,38 @@ def _involved(c: Compiled, U: np.ndarray, act_rows: np.ndarray, actuators) -> st
             jt = c.mechanism.drivers[actuators[k]].joint
             names.append(f"{actuators[k]} (joint {jt}, weight {w[k]:.2f})")
     return ", ".join(names) if names else "none of the actuators (a joint-only dependency)"
+
+
+def _revolute_readout(
+    c: Compiled, d: RevoluteDriver, y: np.ndarray, a: np.ndarray
+) -> tuple[float, float, float, int, np.ndarray]:
+    """Motor angle theta (from f_i to f_j about h_i, marker i on the ground), its rates
+    h_i . omega_j and h_i . omega_dot_j, and its Jacobian row (body j's omega' columns:
+    A_j^T h_i): the read-out of a RevoluteDriver, whose row is not theta itself."""
+    mech = c.mechanism
+    jt = mech.joints[d.joint]
+    Ti = np.array(mech.markers[jt.marker_i].orientation)
+    mj = mech.markers[jt.marker_j]
+    k = c.body_names.index(mj.body)
+    A = quaternion_to_rotation(y[7 * k + 3 : 7 * k + 7])
+    fj = A @ np.array(mj.orientation)[:, 0]
+    h = Ti[:, 2]
+    th = math.atan2(float(Ti[:, 1] @ fj), float(Ti[:, 0] @ fj))
+    w = y[c.nq + 6 * k + 3 : c.nq + 6 * k + 6]
+    row = A.T @ h
+    return th, float(row @ w), float(row @ a[6 * k + 3 : 6 * k + 6]), 6 * k + 3, row
+
+
+def _revolute_rows(c: Compiled, rows, y, a, revolute, act_rows) -> list:
+    """Replace the rows of the revolute actuators by their exact angle rows (in place);
+    [(actuator index, [theta, theta_dot, theta_ddot])]."""
+    out = []
+    for i, name in revolute:
+        th, thd, thdd, col, row = _revolute_readout(c, c.mechanism.drivers[name], y, a)
+        rows.phi_q[act_rows[i]] = 0.0
+        rows.phi_q[act_rows[i], col : col + 3] = row
+        out.append((i, [th, thd, thdd]))
+    return out
 
 
 def _marker_pose(c: Compiled, mk: Marker, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -379,23 +443,27 @@ def inverse_kinematics(
     # 1-2: actuator drivers out, pose drivers in (physics.md e.2)
     ik = ideal.without(*acts)
     for axis, fn, tag in ((0, trajectory.x, "x"), (1, trajectory.y, "y"), (2, trajectory.z, "z")):
+        if tag not in trajectory.positions:
+            continue
         e = [0.0, 0.0, 0.0]
         e[axis] = 1.0
         ik.add(PositionDriver(_unique(ik, f"ik_{tag}"), mname, tuple(e), fn))
-    ik.add(
-        OrientationDriver(
-            _unique(ik, "ik_orientation"),
-            mname,
-            trajectory.angles,
-            trajectory.sequence,
-            trajectory.mode,
+    if trajectory.mode != "none":
+        ik.add(
+            OrientationDriver(
+                _unique(ik, "ik_orientation"),
+                mname,
+                trajectory.angles,
+                trajectory.sequence,
+                trajectory.mode,
+            )
         )
-    )
     c_ik = compile_mechanism(ik)
     # the original drivers with f = 0: their rows are g(q) = s, g_q, gamma_g (physics.md e.1)
     zero = {a: replace(ideal.drivers[a], function=Constant(0.0)) for a in acts}
     c_dr = compile_mechanism(ideal.replace(**zero))
     act_rows = _drive_blocks(c_dr, acts)
+    revolute = [(i, a) for i, a in enumerate(acts) if isinstance(ideal.drivers[a], RevoluteDriver)]
 
     n, na, nq, nv = ts.size, len(acts), c_ik.nq, c_ik.nv
     y = np.array(c_ik.y0 if y0 is None else y0, dtype=float)
@@ -429,6 +497,10 @@ def inverse_kinematics(
         S[k, :, 0] = rows.phi[act_rows]
         S[k, :, 1] = rows.phi_dot[act_rows]  # g_q v + g_t
         S[k, :, 2] = g_q @ a - rows.gamma[act_rows]
+        for i, th in _revolute_rows(c_dr, rows, y, a, revolute, act_rows):
+            if k:  # continuous along the trajectory (atan2 wraps at +-pi)
+                th[0] += 2.0 * math.pi * round((S[k - 1, i, 0] - th[0]) / (2.0 * math.pi))
+            S[k, i] = th
         P[k], R[k] = _marker_pose(c_ik, mk, y)
         M = trajectory.rotation(float(t)).T @ R[k]
         twist[k] = math.atan2(M[1, 0] - M[0, 1], M[0, 0] + M[1, 1])
@@ -471,7 +543,12 @@ def inverse_kinematics(
             sign, _ = np.linalg.slogdet(np.vstack([J_d, N.T]) if idle else J_d)
             if det_sign_prev and sign and sign != det_sign_prev:
                 kk = k if smin[k] <= smin[k - 1] else k - 1
-                Jk = J_d if kk == k else evaluate_rows(c_dr, float(ts[kk]), Y[kk]).phi_q
+                if kk == k:
+                    Jk = J_d
+                else:
+                    rk = evaluate_rows(c_dr, float(ts[kk]), Y[kk])
+                    _revolute_rows(c_dr, rk, Y[kk], A[kk], revolute, act_rows)
+                    Jk = rk.phi_q
                 Uk = np.linalg.svd(Jk)[0][:, [r_eff - 1]]
                 raise KinematicsError(
                     f"inverse kinematics of '{mech.name}': the trajectory passes through a "
@@ -515,15 +592,19 @@ def drives_from_ik(ik: IKResult) -> dict[str, TimeFunction]:
 
 
 def apply_drives(mech: Mechanism, drives: Mapping[str, TimeFunction | float]) -> Mechanism:
-    """A copy of `mech` whose named PrismaticDrivers get the given functions (the input is
-    not modified); use with `drives_from_ik` on the ideal or the clearance mechanism."""
+    """A copy of `mech` whose named PrismaticDrivers / RevoluteDrivers get the given
+    functions (the input is not modified); use with `drives_from_ik` on the ideal or the
+    clearance mechanism."""
     changes = {}
     for name, fn in drives.items():
         d = mech.drivers.get(name)
-        if not isinstance(d, PrismaticDriver):
-            known = [n for n, x in mech.drivers.items() if isinstance(x, PrismaticDriver)]
+        if not isinstance(d, ACTUATOR_DRIVERS):
+            known = [n for n, x in mech.drivers.items() if isinstance(x, ACTUATOR_DRIVERS)]
             raise ModelError(
-                "apply_drives", "drives", name, f"not a PrismaticDriver; known: {known}"
+                "apply_drives",
+                "drives",
+                name,
+                f"not a PrismaticDriver or RevoluteDriver; known: {known}",
             )
         changes[name] = replace(d, function=as_function(fn, owner="apply_drives", field=name))
     return mech.replace(**changes)

@@ -42,9 +42,12 @@ from clearance.model.drivers import (
     OrientationDriver,
     PositionDriver,
     PrismaticDriver,
+    RevoluteDriver,
+    zxz_angles,
 )
 from clearance.model.errors import ModelError
 from clearance.model.forces import PointForce, SpringDamper, Torque
+from clearance.model.functions import Constant, Scaled
 from clearance.model.mechanism import Mechanism
 
 
@@ -400,6 +403,15 @@ def _driver_prims(b: _Builder, d) -> tuple[str, str]:
             mj=d.marker,
         )
         return GROUND, mech.markers[d.marker].body
+    if isinstance(d, RevoluteDriver):
+        # f_j . c(t) with c = T_i Rz(theta(t)) e_y, T_i = Rz(psi) Rx(phi) Rz(chi): the
+        # orientation driver's moving dot-1 row with the angles (psi, phi, chi + theta(t))
+        jt = mech.joints[d.joint]
+        bj, _, Tj = b.marker(jt.marker_j)
+        psi, phi, chi = zxz_angles(mech.markers[jt.marker_i].orientation)
+        fns = [b.fn(Constant(psi)), b.fn(Constant(phi)), b.fn(Scaled(d.function, 1.0, chi))]
+        b.prim(PrimKind.DOT1_MOVING, -1, bj, abj=Tj[:, 0], ix=[*fns, 2, 0, 2, 1, 0], driver=True)
+        return GROUND, mech.markers[jt.marker_j].body
     if isinstance(d, OrientationDriver):
         bj, _, Tj = b.marker(d.marker)
         fns = [b.fn(a) for a in d.angles]

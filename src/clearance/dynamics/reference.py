@@ -26,6 +26,7 @@ y = [q (7 nb): r (3), p (4) per body | v (6 nb): r_dot (3), omega' (3) per body 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,6 +38,7 @@ from clearance.model.drivers import (
     OrientationDriver,
     PositionDriver,
     PrismaticDriver,
+    RevoluteDriver,
 )
 from clearance.model.forces import PointForce, SpringDamper, Torque
 from clearance.model.mechanism import Mechanism
@@ -266,6 +268,18 @@ def _driver_rows(kin: _Kin, mech: Mechanism, drv, t: float) -> list[Row]:
             _moving_dot_row(R[:, m], Rd[:, m], Rdd[:, m], kin.marker_axis(drv.marker, col))
             for col, m in pairs
         ]
+    if isinstance(drv, RevoluteDriver):
+        # f_j normal to c(t) = T_i Rz(theta) e_y = T_i (-sin theta, cos theta, 0): written
+        # with the marker triad directly (the kernel goes through z-x-z angles)
+        jt = mech.joints[drv.joint]
+        T = np.array(mech.markers[jt.marker_i].orientation)
+        th, thd, thdd = drv.function.derivatives(t)
+        s, co = math.sin(th), math.cos(th)
+        c = T @ np.array([-s, co, 0.0])
+        dc = T @ np.array([-co, -s, 0.0])  # dc/dtheta
+        cd = dc * thd
+        cdd = dc * thdd - c * thd * thd
+        return [_moving_dot_row(c, cd, cdd, kin.marker_axis(jt.marker_j, 0))]
     raise TypeError(f"unknown driver type {type(drv).__name__}")
 
 

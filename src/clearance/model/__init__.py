@@ -8,6 +8,7 @@ from clearance.model.drivers import (
     OrientationDriver,
     PositionDriver,
     PrismaticDriver,
+    RevoluteDriver,
 )
 from clearance.model.errors import KinematicsError, ModelError
 from clearance.model.forces import PointForce, SpringDamper, Torque
@@ -33,6 +34,7 @@ __all__ = [
     "OrientationDriver",
     "PositionDriver",
     "PrismaticDriver",
+    "RevoluteDriver",
     "KinematicsError",
     "ModelError",
     "PointForce",

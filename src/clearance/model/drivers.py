@@ -6,6 +6,7 @@ actuator force or torque; signs are documented on each class (Q_c = -phi_q^T lam
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -195,4 +196,54 @@ class OrientationDriver:
         return 3 if self.mode == "full" else 2
 
 
-Driver = PrismaticDriver | DistanceDriver | PositionDriver | OrientationDriver | OffsetDriver
+@dataclass(frozen=True)
+class RevoluteDriver:
+    """Rotation angle theta(t) [rad] of a revolute (or cylindrical) joint: the angle from
+    f_i to f_j about h_i (right hand), marker i on the ground (a base-mounted motor: the
+    cranks of a Delta robot, an RUS or RSS leg).
+
+    One row: f_j . c(t) = 0 with the ground vector c(t) = T_i Rz(theta(t)) e_y, T_i the
+    triad of marker i (a moving dot-1 row, physics.md c.2, as the orientation driver's), so
+    f_j = T_i Rz(theta) e_x on the solution. Its Jacobian there is h_i (rotation of body j
+    about h_i), so F_act = -lam is the motor torque [N m] on body j about +h_i: positive
+    when it drives theta forward.
+    """
+
+    name: str
+    joint: str
+    function: TimeFunction
+
+    kind = DriverType.REVOLUTE
+
+    def __post_init__(self) -> None:
+        who = _name("RevoluteDriver", self.name)
+        if not isinstance(self.joint, str) or not self.joint:
+            raise ModelError(who, "joint", self.joint, "expected a joint name")
+        object.__setattr__(self, "function", as_function(self.function, owner=who))
+
+    @property
+    def nrows(self) -> int:
+        return 1
+
+
+def zxz_angles(T: object) -> tuple[float, float, float]:
+    """(psi, phi, chi) [rad] with T = Rz(psi) Rx(phi) Rz(chi) (rotations about moving axes);
+    phi in [0, pi]; psi = 0 where phi is 0 or pi (the decomposition is not unique there)."""
+    R = np.asarray(T, dtype=float)
+    s = math.hypot(R[0, 2], R[1, 2])
+    phi = math.atan2(s, R[2, 2])
+    if s > 1e-12:
+        return math.atan2(R[0, 2], -R[1, 2]), phi, math.atan2(R[2, 0], R[2, 1])
+    if R[2, 2] > 0.0:  # Rz(chi)
+        return 0.0, 0.0, math.atan2(R[1, 0], R[0, 0])
+    return 0.0, math.pi, -math.atan2(R[1, 0], R[0, 0])  # Rx(pi) Rz(chi) = Rz(-chi) Rx(pi)
+
+
+Driver = (
+    PrismaticDriver
+    | DistanceDriver
+    | PositionDriver
+    | OrientationDriver
+    | OffsetDriver
+    | RevoluteDriver
+)

@@ -20,12 +20,20 @@ from clearance.model.drivers import (
     OrientationDriver,
     PositionDriver,
     PrismaticDriver,
+    RevoluteDriver,
 )
 from clearance.model.errors import ModelError
 from clearance.model.forces import PointForce, SpringDamper, Torque
 from clearance.model.joints import Cylindrical, Joint, Prismatic, Revolute, Universal
 
-_DRIVERS = (PrismaticDriver, DistanceDriver, PositionDriver, OrientationDriver, OffsetDriver)
+_DRIVERS = (
+    PrismaticDriver,
+    DistanceDriver,
+    PositionDriver,
+    OrientationDriver,
+    OffsetDriver,
+    RevoluteDriver,
+)
 _FORCES = (PointForce, Torque, SpringDamper)
 
 
@@ -157,6 +165,29 @@ class Mechanism:
                     d.joint,
                     f"is a {type(self.joints[d.joint]).__name__}; a prismatic "
                     "driver needs a Prismatic or Cylindrical joint",
+                )
+        elif isinstance(d, RevoluteDriver):
+            if d.joint not in self.joints:
+                raise ModelError(
+                    who, "joint", d.joint, f"unknown joint; known joints: {sorted(self.joints)}"
+                )
+            jt = self.joints[d.joint]
+            if not isinstance(jt, (Revolute, Cylindrical)):
+                raise ModelError(
+                    who,
+                    "joint",
+                    d.joint,
+                    f"is a {type(jt).__name__}; a revolute driver needs a Revolute or "
+                    "Cylindrical joint",
+                )
+            if self.markers[jt.marker_i].body != GROUND:
+                raise ModelError(
+                    who,
+                    "joint",
+                    d.joint,
+                    f"its marker i '{jt.marker_i}' is on body "
+                    f"'{self.markers[jt.marker_i].body}'; a revolute driver needs marker i on "
+                    "the ground (a base-mounted motor)",
                 )
         elif isinstance(d, (DistanceDriver, OffsetDriver)):
             mi = self._need_marker(who, "marker_i", d.marker_i)
