@@ -40,6 +40,13 @@ from clearance.scenario import (
     set_path,
     with_overrides,
 )
+from clearance.scenario.parallel import (
+    ATTACH_KEYS,
+    LEG_KEYS,
+    LINK_KEYS,
+    MECHANISM_KEYS,
+    PLATFORM_KEYS,
+)
 from clearance.scenario.schema import (
     CLEARANCE_FIELDS,
     CLEARANCE_KINDS,
@@ -616,6 +623,11 @@ def test_docs_document_every_field() -> None:
         *OUTPUT_FIELDS,
         *UpsUpuParams.spec(),
         *SpsCuParams.spec(),
+        *MECHANISM_KEYS,
+        *PLATFORM_KEYS,
+        *LEG_KEYS,
+        *LINK_KEYS,
+        *ATTACH_KEYS,
     ]
     for spec in CLEARANCE_KINDS.values():
         names += [*spec.fields, *spec.tables]

@@ -315,11 +315,34 @@ def _with_lumped_actuator_forces(r: Result, s: Scenario) -> Result:
 
     from clearance.mechanisms.sps_cu import lumped_actuator_force
 
-    limbs = [b for b in r.compiled.body_names if b.startswith("limb_")]
-    if r.driver_names or not limbs or r.t.size == 0:
+    if r.t.size == 0:
         return r
-    par = s.mechanism.params
-    F = np.column_stack([lumped_actuator_force(r, k, params=par) for k in range(1, 5)])
+    params = s.mechanism.params
+    pm = getattr(params, "mechanism", None)
+    if pm is not None:  # a parallel mechanism: its lumped legs ("<leg>.limb")
+        if not pm.lumped:
+            return r
+        from clearance.parallel.lumped import limb_actuator_force
+
+        ordered: list = []
+        for leg_name, leg in zip(pm.leg_names, pm.legs, strict=True):
+            if leg.actuated is None:
+                continue
+            if not leg.lumped:  # a driver row of its own
+                ordered.append(("row", f"{leg_name}.drive"))
+                continue
+            lo, up = leg.links
+            f = limb_actuator_force(
+                r, f"{leg_name}.limb", f"{leg_name}.S2", lo.mass, up.mass, lo.com, up.com
+            )
+            ordered.append(("lumped", f))
+        # the drivers in leg order, as pm.actuators
+        cols = [r.actuator_force(x) if kind == "row" else x for kind, x in ordered]
+        return replace(r, driver_force=np.column_stack(cols), driver_names=pm.actuators)
+    limbs = [b for b in r.compiled.body_names if b.startswith("limb_")]
+    if r.driver_names or not limbs:
+        return r
+    F = np.column_stack([lumped_actuator_force(r, k, params=params) for k in range(1, 5)])
     return replace(r, driver_force=F, driver_names=tuple(f"drive_{k}" for k in range(1, 5)))
 
 

@@ -59,9 +59,90 @@ def _factory(name: str):
 
 @app.command()
 def examples() -> None:
-    """List the shipped example mechanisms."""
+    """List the library of shipped scenarios and the validation examples."""
+    from clearance.scenario import library
+
+    typer.echo("scenarios (`clearance new NAME` writes an editable copy; `clearance run FILE`):")
+    for name, desc in library().items():
+        typer.echo(f"  {name:<14s} {desc}")
+    typer.echo("validation examples (`clearance example NAME` simulates one):")
     for k, (_, t_end, desc) in EXAMPLES.items():
-        typer.echo(f"{k:<16s} {t_end:>6g} s  {desc}")
+        typer.echo(f"  {k:<16s} {t_end:>6g} s  {desc}")
+
+
+@app.command()
+def new(
+    name: str = typer.Argument(..., help="a library scenario (see `clearance examples`)"),
+    dest: Path = typer.Argument(None, help="file to write (default: ./NAME.toml)"),
+    force: bool = typer.Option(False, "--force", help="overwrite an existing file"),
+) -> None:
+    """Write an editable copy of a library scenario (with the files it reads)."""
+    from clearance.io.files import atomic_path
+    from clearance.scenario import ScenarioError, library_path
+
+    try:
+        src = library_path(name)
+    except ScenarioError as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from None
+    dest = Path(dest) if dest is not None else Path(f"{name}.toml")
+    if dest.is_dir():
+        dest = dest / f"{name}.toml"
+    # the scenario and the tables it names (trajectory.table file), next to each other
+    files = [(src, dest)] + [(src.parent / f, dest.parent / f) for f in _referenced_files(src)]
+    for _, d in files:
+        if d.exists() and not force:
+            typer.echo(f"error: {d} exists (use --force to overwrite)", err=True)
+            raise typer.Exit(2)
+    for s, d in files:
+        try:
+            with atomic_path(d) as tmp:
+                tmp.write_bytes(s.read_bytes())
+        except OSError as e:
+            typer.echo(f"error: cannot write {d}: {e}", err=True)
+            raise typer.Exit(2) from None
+    typer.echo(f"wrote {dest}" + "".join(f", {d}" for _, d in files[1:]))
+    typer.echo(f"edit it, then: clearance check {dest}; clearance run {dest}")
+
+
+@app.command()
+def draw(
+    file: Path = typer.Argument(..., help="scenario file (TOML)"),
+    out: Path = typer.Option(None, help="image to write (default: FILE with .png)"),
+    labels: bool = typer.Option(True, "--labels/--no-labels", help="name the joints"),
+) -> None:
+    """Sketch a scenario's mechanism at its home pose (3-D, joints by kind and named), to
+    check a geometry before running it."""
+    from clearance.model.errors import ModelError
+    from clearance.plot.sketch import sketch
+    from clearance.scenario import ScenarioError, build_mechanisms, load_scenario
+
+    try:
+        s = load_scenario(file)
+        ideal, _, _ = build_mechanisms(s)
+    except ScenarioError as e:
+        for line in e.lines():
+            typer.echo(line, err=True)
+        raise typer.Exit(2) from None
+    except ModelError as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from None
+    from clearance.io.files import atomic_path
+
+    dest = out if out is not None else Path(file).with_suffix(".png")
+    fig = sketch(ideal, labels=labels, titles=[f"{s.name}: {ideal.name}"], columns=1)
+    with atomic_path(dest) as tmp:
+        fig.savefig(tmp, format=dest.suffix.lstrip(".") or "png", dpi=120)
+    typer.echo(f"wrote {dest}")
+
+
+def _referenced_files(path: Path) -> list[str]:
+    """Files a scenario reads besides itself (its trajectory table), relative to it."""
+    from clearance.scenario.toml_io import read_toml
+
+    t = read_toml(path).get("trajectory", {}).get("table", {})
+    f = t.get("file") if isinstance(t, dict) else None
+    return [f] if isinstance(f, str) else []
 
 
 @app.command("example")
@@ -453,7 +534,18 @@ def _load(path: Path, loader):
 
 
 # commands that leave nothing running when they return (no Dask cluster, no threads)
-_FAST_EXIT = {"run", "plot", "export", "check", "describe", "example", "examples", "warmup"}
+_FAST_EXIT = {
+    "run",
+    "plot",
+    "export",
+    "check",
+    "describe",
+    "example",
+    "examples",
+    "new",
+    "draw",
+    "warmup",
+}
 
 
 def main() -> None:  # pragma: no cover - the console script; tests call `app`

@@ -81,6 +81,7 @@ from clearance.model import (
 )
 from clearance.model.bodies import InertiaVariation
 from clearance.model.functions import Scaled, as_function
+from clearance.parallel.lumped import limb_actuator_force
 
 __all__ = [
     "LIMB_MODELS",
@@ -381,81 +382,36 @@ def lumped_actuator_force(
     platform_joint: str | None = None,
 ) -> np.ndarray:
     """(n,) actuator force [N] of lumped limb `limb` (1..4), positive pushing (extending),
-    recovered from the piston's axial balance (physics.md i):
-
-        F_act = m2 u . a_2 - u . f_(platform->piston) - m2 u . g_vec,
-
-    u = limb axis (body z), a_2 = acceleration of the piston's mass centre
-    r_2 = r_G + k(l) u, k(l) = l - a2 - c(l) = m1 (l - a1 - a2)/m, so
-    a_2 = r_ddot_G + k_ddot u + 2 k_dot u_dot + k u_ddot (u_dot = w x u,
-    u_ddot = alpha x u + w x (w x u)); with the base point A fixed this is physics.md's
-    l_ddot u + 2 l_dot u_dot + (l - a2) u_ddot from r_A. f_(platform->piston): the force of
-    `platform_joint` (default "SB_<limb>") on the limb: its reaction when ideal, the contact
-    force on the ball (normal + friction, sign flipped if the limb holds the socket) when it
-    has clearance.
+    recovered from the piston's axial balance (physics.md i; `clearance.parallel.lumped.
+    limb_actuator_force`, with the body "limb_<limb>", the joint `platform_joint`
+    (default "SB_<limb>") and m1, m2, a1, a2 of `params` (None = defaults)).
 
     result: a `Result` of `sps_cu(limbs="lumped")`. length_fn: the limb length l(t) [m];
-    None = read it from the limb body's InertiaVariation. params: the parameters the
-    mechanism was built with (m1, m2, a1, a2; None = defaults).
+    None = read it from the limb body's InertiaVariation.
     """
     who = "lumped_actuator_force"
     if isinstance(limb, bool) or limb not in (1, 2, 3, 4):
         raise ModelError(who, "limb", limb, "expected a limb number 1..4")
     par = _params(params, who)
     body = f"limb_{limb}"
-    c = result.compiled  # type: ignore[attr-defined]
-    mech = c.mechanism
-    if body not in c.body_names:
-        raise ModelError(who, "result", mech.name, f"no body {body!r}: not a lumped 4-SPS/CU")
-    if length_fn is None:
-        var = mech.bodies[body].inertia_variation
-        if var is None:
-            raise ModelError(who, "length_fn", None, f"{body} has no InertiaVariation; pass l(t)")
-        fn = var.length
-    else:
-        fn = as_function(length_fn, owner=who, field="length_fn")
-    m1, m2, a1, a2 = par.cylinder_mass, par.piston_mass, par.cylinder_com, par.piston_com
-    m = m1 + m2
-    if abs(mech.bodies[body].mass - m) > 1e-12 * m:
+    if body not in result.compiled.body_names:  # type: ignore[attr-defined]
         raise ModelError(
-            who, "params", (m1, m2), f"m1 + m2 = {m} kg differs from the mass of {body}"
+            who,
+            "result",
+            result.compiled.mechanism.name,
+            f"no body {body!r}: not a lumped 4-SPS/CU",  # type: ignore[attr-defined]
         )
-
-    t = result.t  # type: ignore[attr-defined]
-    L = fn.evaluate(t)
-    l, ld, ldd = L[:, 0], L[:, 1], L[:, 2]
-    R = result.rotation(body)  # type: ignore[attr-defined]
-    u = R[:, :, 2]
-    w = result.angular_velocity(body)  # type: ignore[attr-defined]
-    kb = c.body_names.index(body)
-    alpha = np.einsum("nij,nj->ni", R, result.a[:, 6 * kb + 3 : 6 * kb + 6])  # type: ignore[attr-defined]
-    a_g = result.acceleration(body)  # type: ignore[attr-defined]
-    k, kd, kdd = m1 * (l - a1 - a2) / m, m1 * ld / m, m1 * ldd / m
-    ud = np.cross(w, u)
-    udd = np.cross(alpha, u) + np.cross(w, ud)
-    a2_vec = a_g + kdd[:, None] * u + 2.0 * kd[:, None] * ud + k[:, None] * udd
-
-    jname = platform_joint or f"SB_{limb}"
-    if jname in result.clearance_names:  # type: ignore[attr-defined]
-        info = c.clearances[list(result.clearance_names).index(jname)]  # type: ignore[attr-defined]
-        f_ball = result.normal_force(jname) + result.friction_force(jname)  # type: ignore[attr-defined]
-        if info.ball_body == body:
-            f = f_ball
-        elif info.socket_body == body:
-            f = -f_ball
-        else:
-            raise ModelError(who, "platform_joint", jname, f"does not act on {body}")
-    else:
-        if jname not in result.blocks:  # type: ignore[attr-defined]
-            raise ModelError(who, "platform_joint", jname, "unknown joint of the result")
-        kblk = result.blocks.index(jname)  # type: ignore[attr-defined]
-        f = result.reaction(jname)[0]  # type: ignore[attr-defined]
-        rep = result.reaction_body[kblk]  # type: ignore[attr-defined]
-        jt = mech.joints[jname]
-        bodies = {mech.markers[jt.marker_i].body, mech.markers[jt.marker_j].body}
-        if body not in bodies:
-            raise ModelError(who, "platform_joint", jname, f"does not act on {body}")
-        if rep != body:  # reported on the other body: action = - reaction
-            f = -f
-    g = np.asarray(mech.gravity, dtype=float)
-    return m2 * np.einsum("ni,ni->n", u, a2_vec) - np.einsum("ni,ni->n", u, f) - m2 * (u @ g)
+    try:
+        return limb_actuator_force(
+            result,
+            body,
+            platform_joint or f"SB_{limb}",
+            par.cylinder_mass,
+            par.piston_mass,
+            par.cylinder_com,
+            par.piston_com,
+            length_fn,
+        )
+    except ModelError as e:  # (named as before: "params" for the masses)
+        field = "params" if e.field == "m1, m2" else e.field
+        raise ModelError(who, field, e.value, e.allowed) from None

@@ -126,6 +126,10 @@ def _vec(who: str, name: str, v: object) -> np.ndarray:
     return np.array(check_value(who, name, "vector3", v))
 
 
+def _floats(a: np.ndarray) -> tuple[float, ...]:
+    return tuple(float(x) for x in a)
+
+
 def _unit(who: str, name: str, v: object) -> np.ndarray:
     a = _vec(who, name, v)
     n = float(np.linalg.norm(a))
@@ -234,9 +238,9 @@ class Leg:
                         "needs its length (it fixes the home pose)",
                     )
         if self.axis is not None:
-            object.__setattr__(self, "axis", tuple(_unit(who, "axis", self.axis)))
+            object.__setattr__(self, "axis", _floats(_unit(who, "axis", self.axis)))
         if self.rail is not None:
-            object.__setattr__(self, "rail", tuple(_unit(who, "rail", self.rail)))
+            object.__setattr__(self, "rail", _floats(_unit(who, "rail", self.rail)))
         names = joint_names(self.joints)
         if not isinstance(self.axes, Mapping):
             raise ModelError(who, "axes", self.axes, "expected a mapping joint name -> axis")
@@ -257,9 +261,9 @@ class Leg:
                 a1, a2 = _unit(who, f"axes.{jn}[0]", a1), _unit(who, f"axes.{jn}[1]", a2)
                 if abs(float(a1 @ a2)) > 1e-9:
                     raise ModelError(who, f"axes.{jn}", v, "the two axes must be orthogonal")
-                axes[jn] = (tuple(a1), tuple(a2))
+                axes[jn] = (_floats(a1), _floats(a2))
             else:
-                axes[jn] = (tuple(_unit(who, f"axes.{jn}", v)),)
+                axes[jn] = (_floats(_unit(who, f"axes.{jn}", v)),)
         object.__setattr__(self, "axes", axes)
         knees = {"rail": ("down", "up"), "crank": ("out", "in")}.get(shape, ())
         if self.knee is not None and self.knee not in knees:

@@ -346,33 +346,29 @@ class ParallelMechanism:
 
     # ------------------------------------------------------------------ mobility
     def mobility(self, mech: Mechanism | None = None) -> Mobility:
-        """Grubler-Kutzbach and the rank check at home (see the module docstring)."""
-        from clearance.analysis.assembly import rank_check
-        from clearance.compile.compiled import compile_mechanism
-
+        """Grubler-Kutzbach and the rank check at home (see the module docstring). The
+        ranks come from the NumPy constraint rows (`clearance.dynamics.reference`), so a
+        scenario file is checked without compiled kernels."""
         m = mech if mech is not None else self._assemble(self._drives(None), False, None)
         free = m.without(*m.drivers)
         n = len(free.bodies)
         grubler = 6 * n - sum(6 - _freedoms(j) for j in free.joints.values())
-        c = compile_mechanism(free)
-        rep = rank_check(c, 0.0, c.y0)
+        dof, dependent = _rank(free)
         held = free.copy().add(
             Marker("__home", GROUND, self.platform.position),
             Fixed("__hold", "__home", PLATFORM_MARKER),
         )
-        ch = compile_mechanism(held)
-        idle = rank_check(ch, 0.0, ch.y0).dof
-        cd = compile_mechanism(m)
-        driven = rank_check(cd, 0.0, cd.y0)
+        idle, _ = _rank(held)
+        driven, driven_dep = _rank(m)
         return Mobility(
             grubler=grubler,
-            rank_dof=rep.dof,
+            rank_dof=dof,
             idle=idle,
-            platform=rep.dof - idle,
+            platform=dof - idle,
             actuators=len(self.actuators),
-            dependent=tuple(rep.involved),
-            driven_dof=driven.dof,
-            driven_dependent=tuple(driven.involved),
+            dependent=dependent,
+            driven_dof=driven,
+            driven_dependent=driven_dep,
         )
 
     def check_mobility(self, mech: Mechanism | None = None) -> Mobility:
@@ -426,6 +422,31 @@ class ParallelMechanism:
         new = list(self.legs)
         new[k] = replace(new[k], **changes)
         return replace(self, legs=tuple(new))
+
+
+def _rank(mech: Mechanism, rtol: float = 1e-9) -> tuple[int, tuple[str, ...]]:
+    """(DOF = 6 nb - rank of phi_q, names of the joints and drivers whose rows are
+    dependent) at the bodies' initial poses, from the NumPy constraint rows."""
+    from clearance.dynamics.reference import constraint_rows
+
+    nb = len(mech.bodies)
+    y = np.zeros(13 * nb)
+    for k, b in enumerate(mech.bodies.values()):
+        y[7 * k : 7 * k + 3] = b.position
+        y[7 * k + 3 : 7 * k + 7] = b.orientation
+    J = constraint_rows(mech, 0.0, y)[1]
+    if J.shape[0] == 0:
+        return 6 * nb, ()
+    U, sv, _ = np.linalg.svd(J)
+    rank = int(np.sum(sv > rtol * max(1.0, sv[0])))
+    if rank == J.shape[0]:
+        return 6 * nb - rank, ()
+    weight = np.sqrt(np.sum(U[:, rank:] ** 2, axis=1))
+    owners = [
+        name for name, e in (*mech.joints.items(), *mech.drivers.items()) for _ in range(e.nrows)
+    ]
+    dep = tuple(dict.fromkeys(owners[r] for r in np.nonzero(weight > 1e-6)[0]))
+    return 6 * nb - rank, dep
 
 
 def _freedoms(joint: object) -> int:

@@ -33,6 +33,8 @@ from clearance.scenario.serialize import scenario_to_dict
 from clearance.scenario.toml_io import (
     default_scenario_path,
     default_scenarios,
+    library,
+    library_path,
     load_scenario,
     loads_scenario,
     scenario_to_toml,
@@ -60,6 +62,8 @@ __all__ = [
     "default_scenario_path",
     "default_scenarios",
     "get_path",
+    "library",
+    "library_path",
     "load_scenario",
     "loads_scenario",
     "scenario_from_dict",

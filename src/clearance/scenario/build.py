@@ -27,7 +27,6 @@ from clearance.model.functions import Constant, Sinusoid, TimeFunction
 from clearance.model.mechanism import Mechanism
 from clearance.scenario.errors import ScenarioError
 from clearance.scenario.schema import (
-    MECHANISMS,
     InitialPlacement,
     MechanismType,
     Scenario,
@@ -83,6 +82,7 @@ class BuildInfo:
     t_end: float
     simulate_kwargs: dict = field(default_factory=dict)
     ik_mechanism: Mechanism | None = None  # model with driver rows for the IK (default: ideal)
+    pose_positions: tuple[str, ...] = ("x", "y", "z")  # prescribed position coordinates
 
     def pose_functions(self) -> dict[str, TimeFunction]:
         """x, y, z [m] of the platform marker and the angles [rad] of `pose_sequence`
@@ -104,7 +104,13 @@ class BuildInfo:
         f = self.pose_functions()
         angles = (f["angle_1"], f["angle_2"], f["angle_3"])
         return PlatformTrajectory(
-            f["x"], f["y"], f["z"], angles=angles, sequence=self.pose_sequence, mode=self.pose_mode
+            f["x"],
+            f["y"],
+            f["z"],
+            angles=angles,
+            sequence=self.pose_sequence,
+            mode=self.pose_mode,
+            positions=self.pose_positions,
         )
 
 
@@ -133,19 +139,22 @@ def with_clearances(ideal: Mechanism, s: Scenario) -> Mechanism:
     return clr
 
 
-def _info(s: Scenario, mtype: MechanismType, home_height: float, **specific) -> BuildInfo:
-    """BuildInfo fields shared by every mechanism type, plus the type-specific ones."""
-    kind = MECHANISMS[mtype]
+def _info(s: Scenario, mtype: MechanismType, home: float | tuple, **specific) -> BuildInfo:
+    """BuildInfo fields shared by every mechanism type, plus the type-specific ones. home:
+    the platform centre's height (on the z axis) or its position at home [m]."""
+    kind = s.mechanism.kind
+    tr = s.trajectory
     return BuildInfo(
         mechanism_type=mtype,
         clearance_joints=tuple(
             pair_joint_name(n, j.pair) if isinstance(j, UniversalClearance) else n
             for n, j in s.clearance.joints.items()
         ),
-        home_position=(0.0, 0.0, home_height),
-        trajectory=s.trajectory,
-        pose_sequence=kind.sequence,
-        pose_mode=kind.mode,
+        home_position=(0.0, 0.0, home) if isinstance(home, float) else tuple(home),
+        trajectory=tr,
+        pose_sequence=tr.sequence or kind.sequence,
+        pose_mode=tr.orientation or kind.mode,
+        pose_positions=tr.positions or ("x", "y", "z"),
         angle_coordinates=kind.angles,
         initial=s.clearance.initial,
         t_end=s.trajectory.duration,
@@ -202,12 +211,33 @@ def _build_sps_cu(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, Bu
     return ideal, with_clearances(ideal, s), info
 
 
+def _build_parallel(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, BuildInfo]:
+    """Any parallel mechanism from leg types (clearance.parallel); lumped limbs run their
+    inverse kinematics on the two-body model (`info.ik_mechanism`)."""
+    pm = s.mechanism.params.mechanism  # type: ignore[union-attr]
+    fns = _drive_list(drives, pm.actuators, s.source)
+    ideal = pm.build(fns, check=False, name=f"{s.name} (ideal)")
+    info = _info(
+        s,
+        MechanismType.PARALLEL,
+        pm.platform.position,
+        platform_body=pm.platform_body,
+        platform_marker=pm.platform_marker,
+        actuators=pm.actuators,
+        actuator_joints=pm.actuator_joints,
+        home_drives=tuple(pm.home_drives().values()),
+        ik_mechanism=pm.ik_mechanism(fns) if pm.lumped else None,
+    )
+    return ideal, with_clearances(ideal, s), info
+
+
 Builder = Callable[[Scenario, Drives], tuple[Mechanism, Mechanism, BuildInfo]]
 
 # Mechanism type -> builder
 BUILDERS: dict[MechanismType, Builder] = {
     MechanismType.UPS_UPU: _build_ups_upu,
     MechanismType.SPS_CU: _build_sps_cu,
+    MechanismType.PARALLEL: _build_parallel,
 }
 
 

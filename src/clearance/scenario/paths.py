@@ -23,7 +23,15 @@ import re
 from collections.abc import Mapping
 
 from clearance.model.contact_laws import law_name
-from clearance.scenario.errors import MISSING, ScenarioError, did_you_mean
+from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_mean
+from clearance.scenario.parallel import (
+    ATTACH_KEYS,
+    LEG_KEYS,
+    LINK_KEYS,
+    MECHANISM_KEYS,
+    PLATFORM_KEYS,
+    parse_parallel,
+)
 from clearance.scenario.schema import (
     CHECKS_FIELDS,
     CLEARANCE_FIELDS,
@@ -37,6 +45,8 @@ from clearance.scenario.schema import (
     TRAJECTORY_FIELDS,
     MechanismType,
     Scenario,
+    leg_groups,
+    parallel_kind,
     scenario_from_dict,
 )
 from clearance.scenario.serialize import scenario_to_dict
@@ -67,21 +77,41 @@ def _get(d: object, key: str) -> object:
 
 
 def _mechanism_kind(d: Mapping):
-    """The MechanismKind of document d's mechanism.type, or None if it names none."""
-    mtype = _get(_get(d, "mechanism"), "type")
+    """The MechanismKind of document d's mechanism.type, or None if it names none (or a
+    parallel mechanism that does not validate)."""
+    mech = _get(d, "mechanism")
+    mtype = _get(mech, "type")
     if mtype not in [m.value for m in MechanismType]:
         return None
+    if mtype == MechanismType.PARALLEL.value:
+        problems = Problems("<paths>")
+        pp = parse_parallel(mech, problems, default_name="mechanism")  # type: ignore[arg-type]
+        return parallel_kind(pp) if pp is not None else None
     return MECHANISMS.get(MechanismType(mtype))
+
+
+# keys of a parallel mechanism's [mechanism] below `mechanism` (list indices left out)
+_PARALLEL_TABLES = {
+    ("platform",): PLATFORM_KEYS,
+    ("legs",): LEG_KEYS,
+    ("legs", "base"): ATTACH_KEYS,
+    ("legs", "platform"): ATTACH_KEYS,
+    ("legs", "links"): LINK_KEYS,
+    # a leg's joints, whatever its string: R, R1, R2, ...
+    ("legs", "axes"): tuple(f"{c}{k}" for c in "RPCUS" for k in ("", "1", "2", "3")),
+}
 
 
 def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
     """Keys the format allows below the table at `keys` of document d (None: a leaf)."""
     kind = _mechanism_kind(d)
+    parallel = _get(_get(d, "mechanism"), "type") == MechanismType.PARALLEL.value
     n = len(keys)
     if n == 0:
         return TOP_KEYS
     head = keys[0]
     if n == 1:
+        mech_keys = MECHANISM_KEYS if parallel else ("type", *(kind.params.spec() if kind else ()))
         sections = {
             "scenario": tuple(SCENARIO_FIELDS),
             "trajectory": (*TRAJECTORY_FIELDS, "amplitude"),
@@ -89,15 +119,25 @@ def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
             "solver": tuple(SOLVER_FIELDS),
             "output": tuple(OUTPUT_FIELDS),
             "checks": tuple(CHECKS_FIELDS),
-            "mechanism": ("type", *(kind.params.spec() if kind else ())),
+            "mechanism": mech_keys,
         }
         return sections.get(head)
+    if head == "mechanism":
+        return _PARALLEL_TABLES.get(tuple(keys[1:])) if parallel else None
     if keys[:2] == ["trajectory", "amplitude"] and n == 2:
         return kind.coordinates if kind else ()
     if head != "clearance" or keys[1] != "joints":
         return None
+    groups = leg_groups(kind)
     if n == 2:
-        return tuple(kind.clearance_joints) if kind else ()
+        return (*kind.clearance_joints, *sorted(groups)) if kind else ()
+    if keys[2] in groups and (kind is None or keys[2] not in kind.clearance_joints):
+        # [clearance.joints.<leg>.<joint>]: the leg's joints, then as for "<leg>.<joint>"
+        if n == 3:
+            pre = keys[2] + "."
+            return tuple(j[len(pre) :] for j in kind.clearance_joints if j.startswith(pre))
+        keys = ["clearance", "joints", f"{keys[2]}.{keys[3]}", *keys[4:]]
+        n = len(keys)
     spec = CLEARANCE_KINDS.get(kind.clearance_joints.get(keys[2], "")) if kind else None
     if spec is None:
         return None
@@ -107,11 +147,21 @@ def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
         return MATERIAL_FIELDS
     if n == 4 and keys[3] in spec.laws:
         registry, default = spec.laws[keys[3]]
-        law = _get(_get(_get(_get(_get(d, "clearance"), "joints"), keys[2]), keys[3]), "law")
+        law = _get(_get(_joint_table(d, keys[2]), keys[3]), "law")
         name = law if isinstance(law, str) else law_name(default) if default else None
         cls = registry.get(name) if name else None
         return ("law", *(f.name for f in dataclasses.fields(cls) if f.init)) if cls else ("law",)
     return None
+
+
+def _joint_table(d: Mapping, name: str) -> object:
+    """The file table of clearance joint `name` ("leg1.S" also nested by leg)."""
+    joints = _get(_get(d, "clearance"), "joints")
+    t = _get(joints, name)
+    if t is MISSING and "." in name:
+        leg, sub = name.split(".", 1)
+        t = _get(_get(joints, leg), sub)
+    return t
 
 
 def _check(
@@ -139,12 +189,13 @@ def _check(
 
 def _radii(d: Mapping, parts: list) -> tuple[str, ...]:
     """The exclusive radius pair of the joint at clearance.joints.<J>.<field>, or ()."""
-    if len(parts) != 4 or parts[:2] != ["clearance", "joints"]:
+    if len(parts) not in (4, 5) or parts[:2] != ["clearance", "joints"]:
         return ()
     kind = _mechanism_kind(d)
     if kind is None:
         return ()
-    spec = CLEARANCE_KINDS.get(kind.clearance_joints.get(parts[2], ""))
+    name = parts[2] if len(parts) == 4 else f"{parts[2]}.{parts[3]}"  # (nested by leg)
+    spec = CLEARANCE_KINDS.get(kind.clearance_joints.get(name, ""))
     return spec.radii if spec is not None and spec.radii is not None else ()
 
 

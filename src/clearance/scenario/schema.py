@@ -49,6 +49,7 @@ from clearance.model.contact_laws import (
 from clearance.model.errors import ModelError
 from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_mean
 from clearance.scenario.fields import REQUIRED, Field, parse_table, table_at
+from clearance.scenario.parallel import ParallelParams, joint_kinds, parse_parallel
 
 __all__ = [
     "FORMAT_VERSION",
@@ -81,6 +82,7 @@ AUTO = "auto"  # in a law table: the field's computed value (None in Python)
 class MechanismType(str, Enum):
     UPS_UPU = "4ups-upu"
     SPS_CU = "4sps-cu"
+    PARALLEL = "parallel"  # any parallel mechanism from leg types (clearance.parallel)
 
 
 class TrajectoryShape(str, Enum):
@@ -173,6 +175,7 @@ SCENARIO_FIELDS = {
     "name": Field("name", REQUIRED, doc="scenario name (result file names, labels)"),
     "description": Field("text", "", doc="free text"),
 }
+ORIENTATIONS = ("full", "axis", "none")
 TRAJECTORY_FIELDS = {
     "shape": Field(
         "choice", "rest-to-rest", doc="g(t)", choices=tuple(s.value for s in TrajectoryShape)
@@ -181,7 +184,14 @@ TRAJECTORY_FIELDS = {
     # 'DLASCL illegal value', then 'SVD did not converge')
     "duration": Field("positive", 2.0, "s", "simulated time t_end", minimum=1e-9),
     "period": Field("positive", None, "s", "period of g(t); default: duration"),
+    # type = "parallel" only: which pose coordinates the trajectory prescribes
+    "orientation": Field(
+        "choice", None, doc="full, axis (the normal) or none", choices=ORIENTATIONS
+    ),
+    "sequence": Field("text", None, doc="rotation sequence of alpha, beta, gamma"),
+    "positions": Field("choices", None, doc="prescribed coordinates", choices=("x", "y", "z")),
 }
+PARALLEL_ONLY = ("orientation", "sequence", "positions")
 CLEARANCE_FIELDS = {
     "initial": Field(
         "choice",
@@ -382,11 +392,35 @@ class ScenarioMeta:
 @dataclass(frozen=True)
 class MechanismSpec:
     type: MechanismType
-    params: ParamSet
+    params: ParamSet | ParallelParams
 
     @property
     def kind(self) -> MechanismKind:
+        if self.type is MechanismType.PARALLEL:
+            return parallel_kind(self.params)  # type: ignore[arg-type]
         return MECHANISMS[self.type]
+
+
+PARALLEL_POSITIONS = ("x", "y", "z")
+PARALLEL_ANGLES = ("alpha", "beta", "gamma")  # the angles of `trajectory.sequence`, in order
+
+
+def parallel_kind(params: ParallelParams) -> MechanismKind:
+    """What a parallel mechanism offers to its file: every joint of the built (ideal)
+    mechanism may get clearance (kind by its letter); trajectory coordinates x, y, z
+    [m] and alpha, beta, gamma [rad] (the angles of `trajectory.sequence`)."""
+    pm = params.mechanism
+    joints = joint_kinds(pm)
+    return MechanismKind(
+        params=ParallelParams,  # type: ignore[arg-type]
+        spherical_joints={n: "platform" for n, k in joints.items() if k == "spherical"},
+        positions=PARALLEL_POSITIONS,
+        angles=PARALLEL_ANGLES,
+        sequence="xyz",
+        mode="full",
+        description=f"parallel mechanism '{pm.name}' ({len(pm.legs)} legs)",
+        clearance_joints=joints,
+    )
 
 
 @dataclass(frozen=True)
@@ -394,13 +428,18 @@ class TrajectorySpec:
     """Platform pose = home + amplitude[coord] * g(t); g = 0 at t = 0 (mechanisms.md 1.5, 2.3).
 
     amplitude: coordinate -> amplitude ([m] for positions, [rad] for angles), every
-    coordinate of the mechanism type present (0 = not moved).
+    coordinate of the mechanism type present (0 = not moved). orientation, sequence,
+    positions (type "parallel" only, else None): the platform pose the trajectory
+    prescribes (`clearance.analysis.ik.PlatformTrajectory` mode, sequence, positions).
     """
 
     shape: TrajectoryShape = TrajectoryShape.REST_TO_REST
     duration: float = 2.0
     period: float = 2.0
     amplitude: dict = field(default_factory=dict)
+    orientation: str | None = None  # type = "parallel": "full", "axis" or "none"
+    sequence: str | None = None  # type = "parallel": rotation sequence of alpha, beta, gamma
+    positions: tuple | None = None  # type = "parallel": prescribed x, y, z
 
     @property
     def omega(self) -> float:
@@ -666,6 +705,26 @@ def _joint(value: object, path: str, kind_name: str, problems: Problems) -> obje
     return _construct(spec.cls, kw, path, problems)  # with the cross checks of the class
 
 
+def leg_groups(kind: MechanismKind | None) -> set[str]:
+    """Names that group joints "<leg>.<joint>" (a parallel mechanism's legs)."""
+    if kind is None:
+        return set()
+    return {n.split(".", 1)[0] for n in kind.clearance_joints if "." in n}
+
+
+def _joint_tables(jt: dict, kind: MechanismKind | None):
+    """(path, joint name, table) of [clearance.joints]: a parallel mechanism's joints may be
+    written "leg1.S" (quoted) or nested by leg, [clearance.joints.leg1.S]."""
+    groups = leg_groups(kind)
+    for name, value in jt.items():
+        known = kind is not None and name in kind.clearance_joints
+        if not known and name in groups and isinstance(value, dict):
+            for sub, v in value.items():
+                yield f"clearance.joints.{name}.{sub}", f"{name}.{sub}", v
+        else:
+            yield f"clearance.joints.{name}", name, value
+
+
 def _clearance(
     t: dict, kind: MechanismKind | None, params: ParamSet | None, problems: Problems
 ) -> ClearanceSpec | None:
@@ -673,8 +732,7 @@ def _clearance(
     kw = parse_table(t, CLEARANCE_FIELDS, "clearance", problems, extra=("joints",))
     joints: dict[str, object] = {}
     jt = table_at(t.get("joints", {}), "clearance.joints", problems)
-    for name, value in (jt or {}).items():
-        path = f"clearance.joints.{name}"
+    for path, name, value in _joint_tables(jt or {}, kind):
         if kind is None:
             continue
         if name not in kind.clearance_joints:
@@ -697,7 +755,9 @@ def _clearance(
     return ClearanceSpec(InitialPlacement(kw["initial"]), joints)
 
 
-def _mechanism(t: dict, problems: Problems) -> tuple[MechanismSpec | None, MechanismKind | None]:
+def _mechanism(
+    t: dict, problems: Problems, default_name: str = "mechanism"
+) -> tuple[MechanismSpec | None, MechanismKind | None]:
     types = [m.value for m in MechanismType]
     mtype = t.get("type", MISSING)
     if mtype is MISSING:
@@ -709,6 +769,12 @@ def _mechanism(t: dict, problems: Problems) -> tuple[MechanismSpec | None, Mecha
         problems.add("mechanism.type", mtype, allowed)
         return None, None
     mt = MechanismType(mtype)
+    if mt is MechanismType.PARALLEL:
+        pp = parse_parallel(t, problems, default_name=default_name)
+        if pp is None:
+            return None, None
+        ms = MechanismSpec(mt, pp)
+        return ms, ms.kind
     kind = MECHANISMS[mt]
     spec = kind.params.spec()
     n0, values = len(problems), {}
@@ -728,9 +794,48 @@ def _mechanism(t: dict, problems: Problems) -> tuple[MechanismSpec | None, Mecha
     return (MechanismSpec(mt, params) if params is not None else None), kind
 
 
-def _trajectory(t: dict, kind: MechanismKind | None, problems: Problems) -> TrajectorySpec | None:
+def _pose_fields(
+    kw: dict, mech: MechanismSpec | None, parallel: bool, problems: Problems
+) -> tuple[str | None, str | None, tuple | None]:
+    """(orientation, sequence, positions) of a parallel mechanism's trajectory, checked
+    against its platform DOF; None for the seed types (which fix them)."""
+    given = [k for k in PARALLEL_ONLY if kw.get(k) is not None]
+    if not parallel:
+        for k in given:
+            problems.add(f"trajectory.{k}", kw[k], "only for mechanism.type = 'parallel'")
+        return None, None, None
+    if mech is None:  # (the [mechanism] has problems: they are reported)
+        return None, None, None
+    orientation = kw["orientation"] or "full"
+    sequence = kw["sequence"] or "xyz"
+    if len(sequence) != 3 or any(c not in "xyz" for c in sequence):
+        problems.add("trajectory.sequence", sequence, "expected 3 axis letters, e.g. 'xyz'")
+    positions = tuple(p for p in "xyz" if p in (kw["positions"] or ("x", "y", "z")))
+    n = len(positions) + {"full": 3, "axis": 2, "none": 0}[orientation]
+    mob = mech.params.mobility  # type: ignore[union-attr]
+    if n < mob.platform:  # (more is allowed: the extra ones must follow the mechanism,
+        # e.g. x = y = 0 on a CU column; the inverse kinematics refuses them otherwise)
+        problems.add(
+            "trajectory.positions" if "positions" in given else "trajectory.orientation",
+            list(positions) if "positions" in given else orientation,
+            f"the trajectory prescribes {n} coordinates ({', '.join(positions) or 'no position'}"
+            f"; orientation '{orientation}'), the platform has {mob.platform} DOF: prescribe "
+            f"at least {mob.platform} (positions = [...]; orientation 'full' 3, 'axis' 2 "
+            "(the normal), 'none' 0)",
+        )
+    return orientation, sequence, positions
+
+
+def _trajectory(
+    t: dict,
+    kind: MechanismKind | None,
+    problems: Problems,
+    mech: MechanismSpec | None = None,
+    parallel: bool = False,
+) -> TrajectorySpec | None:
     n0 = len(problems)
     kw = parse_table(t, TRAJECTORY_FIELDS, "trajectory", problems, extra=("amplitude",))
+    orientation, sequence, positions = _pose_fields(kw, mech, parallel, problems)
     amp: dict[str, float] = {}
     at = table_at(t.get("amplitude", {}), "trajectory.amplitude", problems)
     if at is not None and kind is not None:
@@ -751,6 +856,17 @@ def _trajectory(t: dict, kind: MechanismKind | None, problems: Problems) -> Traj
             else:
                 amp[key] = float(v)
         amp = {c: amp.get(c, 0.0) for c in units}
+        free = [c for c in PARALLEL_POSITIONS if positions is not None and c not in positions]
+        if orientation == "none":
+            free += list(PARALLEL_ANGLES)
+        for c in free:
+            if amp.get(c, 0.0) != 0.0:
+                problems.add(
+                    f"trajectory.amplitude.{c}",
+                    amp[c],
+                    "this coordinate is left to the mechanism (trajectory.positions / "
+                    "orientation): its amplitude must be 0",
+                )
     if len(problems) > n0 or kind is None:
         return None
     period = kw["period"] if kw["period"] is not None else kw["duration"]
@@ -766,7 +882,15 @@ def _trajectory(t: dict, kind: MechanismKind | None, problems: Problems) -> Traj
             f"{kw['duration'] * IK_PER_PERIOD / (MAX_IK_POSES - 1):.3g} s or a shorter duration",
         )
         return None
-    return TrajectorySpec(TrajectoryShape(kw["shape"]), kw["duration"], period, amp)
+    return TrajectorySpec(
+        TrajectoryShape(kw["shape"]),
+        kw["duration"],
+        period,
+        amp,
+        orientation,
+        sequence,
+        positions,
+    )
 
 
 # largest trajectory amplitude by unit (PROPOSED): metres of platform travel and radians of
@@ -857,9 +981,10 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
         n0, kw = len(problems), parse_table(t, SCENARIO_FIELDS, "scenario", problems)
         meta = ScenarioMeta(**kw) if len(problems) == n0 else None
     if (t := _section(d, "mechanism", problems, required=True)) is not None:
-        mech, kind = _mechanism(t, problems)
+        mech, kind = _mechanism(t, problems, meta.name if meta is not None else "mechanism")
     if (t := _section(d, "trajectory", problems)) is not None:
-        traj = _trajectory(t, kind, problems)
+        mtype = d["mechanism"].get("type") if isinstance(d.get("mechanism"), dict) else None
+        traj = _trajectory(t, kind, problems, mech, mtype == MechanismType.PARALLEL.value)
     if (t := _section(d, "clearance", problems)) is not None:
         clr = _clearance(t, kind, mech.params if mech is not None else None, problems)
     if (t := _section(d, "solver", problems)) is not None:

@@ -9,6 +9,7 @@ import dataclasses
 from enum import Enum
 
 from clearance.model.contact_laws import FrictionContactLaw, NormalContactLaw, law_to_dict
+from clearance.scenario.parallel import ParallelParams
 from clearance.scenario.schema import AUTO, CLEARANCE_KINDS, Scenario
 
 __all__ = ["law_dict", "scenario_to_dict"]
@@ -63,23 +64,36 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
     def fields_of(obj: object) -> dict[str, object]:
         return {f.name: _plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}  # type: ignore[arg-type]
 
+    params = s.mechanism.params
+    if isinstance(params, ParallelParams):
+        mechanism = {"type": s.mechanism.type.value, **params.to_dict()}
+    else:
+        mechanism = {"type": s.mechanism.type.value, **fields_of(params)}
+    tr = s.trajectory
+    trajectory = {
+        "shape": tr.shape.value,
+        "duration": tr.duration,
+        "period": tr.period,
+        "amplitude": dict(tr.amplitude),
+    }
+    for key in ("orientation", "sequence", "positions"):  # (type "parallel" only)
+        if getattr(tr, key) is not None:
+            trajectory[key] = _plain(getattr(tr, key))
+    kinds = s.mechanism.kind.clearance_joints
+    joints: dict[str, object] = {}
+    for n, j in s.clearance.joints.items():
+        table = _joint_dict(j, kinds[n])
+        if "." in n:  # a parallel mechanism's "leg1.S": [clearance.joints.leg1.S]
+            leg, sub = n.split(".", 1)
+            joints.setdefault(leg, {})[sub] = table  # type: ignore[index]
+        else:
+            joints[n] = table
     return {
         "format_version": s.format_version,
         "scenario": fields_of(s.scenario),
-        "mechanism": {"type": s.mechanism.type.value, **fields_of(s.mechanism.params)},
-        "trajectory": {
-            "shape": s.trajectory.shape.value,
-            "duration": s.trajectory.duration,
-            "period": s.trajectory.period,
-            "amplitude": dict(s.trajectory.amplitude),
-        },
-        "clearance": {
-            "initial": s.clearance.initial.value,
-            "joints": {
-                n: _joint_dict(j, s.mechanism.kind.clearance_joints[n])
-                for n, j in s.clearance.joints.items()
-            },
-        },
+        "mechanism": mechanism,
+        "trajectory": trajectory,
+        "clearance": {"initial": s.clearance.initial.value, "joints": joints},
         "solver": fields_of(s.solver),
         "output": fields_of(s.output),
         "checks": fields_of(s.checks),

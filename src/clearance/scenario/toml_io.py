@@ -18,7 +18,7 @@ import sys
 from collections.abc import Mapping
 from pathlib import Path
 
-from clearance.scenario.errors import ScenarioError
+from clearance.scenario.errors import ScenarioError, did_you_mean
 from clearance.scenario.schema import Scenario, scenario_from_dict
 from clearance.scenario.serialize import scenario_to_dict
 
@@ -30,6 +30,8 @@ else:  # pragma: no cover
 __all__ = [
     "default_scenario_path",
     "default_scenarios",
+    "library",
+    "library_path",
     "dumps_toml",
     "load_scenario",
     "loads_scenario",
@@ -136,16 +138,37 @@ def _value(v: object) -> str:
     raise TypeError(f"cannot write {type(v).__name__} {v!r} to TOML")
 
 
-def _table(path: list[str], d: Mapping, out: list[str]) -> None:
-    inline = len(path) + 1 >= INLINE_DEPTH
-    scalars = [(k, v) for k, v in d.items() if not isinstance(v, Mapping) or inline]
+def _is_array_of_tables(v: object) -> bool:
+    return isinstance(v, list) and bool(v) and all(isinstance(x, Mapping) for x in v)
+
+
+def _table(path: list[str], d: Mapping, out: list[str], groups: int = 0) -> None:
+    """Write table `d` at `path`. groups: levels of `path` that only group tables (a
+    parallel mechanism's legs in [clearance.joints.<leg>.<joint>]): not counted for the
+    inline depth. Lists of tables ([[mechanism.legs]]) become arrays of tables, their
+    items' own tables inline."""
+    inline = len(path) - groups + 1 >= INLINE_DEPTH
+    arrays = [(k, v) for k, v in d.items() if _is_array_of_tables(v) and not inline and path]
+    scalars = [
+        (k, v)
+        for k, v in d.items()
+        if (not isinstance(v, Mapping) or inline) and (k, v) not in arrays
+    ]
     tables = [(k, v) for k, v in d.items() if isinstance(v, Mapping) and not inline]
-    if path and (scalars or not tables):
+    if path and (scalars or not (tables or arrays)):
         out.append("")
         out.append("[" + ".".join(_key(p) for p in path) + "]")
     out.extend(f"{_key(k)} = {_value(v)}" for k, v in scalars)
     for k, v in tables:
-        _table([*path, k], v, out)
+        group = path[-2:] == ["clearance", "joints"] and all(
+            isinstance(x, Mapping) for x in v.values()
+        )
+        _table([*path, k], v, out, groups + group)
+    for k, items in arrays:
+        for item in items:
+            out.append("")
+            out.append("[[" + ".".join(_key(p) for p in [*path, k]) + "]]")
+            out.extend(f"{_key(a)} = {_value(b)}" for a, b in item.items())
 
 
 def dumps_toml(d: Mapping) -> str:
@@ -177,3 +200,28 @@ def default_scenario_path(name: str = "ups_upu") -> Path:
             "clearance/data", "name", name, f"unknown shipped scenario; allowed: {names}"
         )
     return Path(os.fspath(importlib.resources.files("clearance") / "data" / f"{name}.toml"))
+
+
+def _library_dir() -> Path:
+    return Path(os.fspath(importlib.resources.files("clearance") / "data" / "library"))
+
+
+def library() -> dict[str, str]:
+    """The library of shipped scenarios built with the parallel-mechanism builder: name ->
+    one-line description (its [scenario] description)."""
+    out = {}
+    for p in sorted(_library_dir().glob("*.toml")):
+        d = read_toml(p)
+        out[p.stem] = str(d.get("scenario", {}).get("description", ""))
+    return out
+
+
+def library_path(name: str) -> Path:
+    """Path of a library scenario (`library()` lists them)."""
+    names = tuple(library())
+    if name not in names:
+        hint = did_you_mean(name, names)
+        raise ScenarioError(
+            "clearance/data/library", "name", name, f"unknown scenario;{hint} allowed: {names}"
+        )
+    return _library_dir() / f"{name}.toml"
