@@ -286,3 +286,43 @@ def test_mobility_mismatches_are_refused() -> None:
     with pytest.raises(cl.ModelError, match="leg names must be unique"):
         a = Leg("UPS", (1, 0, 0), (0.5, 0, 0.5), (rod(0.3), rod(0.3)), name="a")
         ParallelMechanism("x", Platform(1.0, (1, 1, 1)), (a, a))
+
+
+# Delta robot of ABB IRB 340 size after R. L. Williams II, "The Delta Parallel Robot:
+# Kinematics Solutions" (Ohio University, 2016): base triangle side sB = 567 mm, platform
+# side sP = 76 mm, upper arm L = 524 mm, parallelogram l = 1244 mm; the pairs (motor angles
+# [deg], platform position [mm]) are the example table of the public implementation
+# Pieces98/Deltarobot_Kinematics (README.md) of Williams' equations, which a second,
+# independent implementation reproduced to 0.01 deg. Williams' crank pivots lie on the
+# base triangle's side midpoints, wB = sB / (2 sqrt 3) from the centre, the parallelogram's
+# platform ends on its vertices, uP = sP / sqrt 3; his angle is 0 with the arm horizontal
+# and positive turning down, as the builder's.
+WILLIAMS = [
+    ((0.0, 0.0, 0.0), (0.0, 0.0, -1064.4517), 1e-4),
+    ((10.0, 20.0, 30.0), (108.1354, -180.3484, -1243.5413), 1e-4),
+    ((-20.5, -20.5, -20.5), (0.0, 0.0, -900.3195), 1e-4),
+    ((47.5, -11.6, 21.4), (300.4598, 499.9385, -1099.8281), 1e-4),
+    ((90.0, 90.0, 90.0), (0.0, 0.0, -1762.22), 5e-3),  # (z given to 10 um only)
+]
+
+
+@pytest.mark.parametrize("theta, position, tol_deg", WILLIAMS)
+def test_delta_home_angles_against_williams_table(theta, position, tol_deg) -> None:
+    """The crank angles the builder solves for a platform position (its home pose) against
+    Williams' inverse kinematics table."""
+    wb, up = 0.567 / (2.0 * math.sqrt(3.0)), 0.076 / math.sqrt(3.0)
+    ang = [-90.0, 30.0, 150.0]
+    pm = ParallelMechanism(
+        "Delta (Williams)",
+        Platform(1.0, (0.01, 0.01, 0.02), position=tuple(np.array(position) / 1000.0)),
+        legs(
+            "RSS",
+            base=circle(wb, ang),
+            platform=circle(up, ang),
+            links=(rod(0.524), rod(1.244, 0.1)),
+            parallelogram=0.1,
+        ),
+        dof=3,
+    )
+    got = np.degrees(list(pm.home_drives().values()))
+    assert np.max(np.abs(got - np.array(theta))) < tol_deg, got
