@@ -38,8 +38,8 @@ from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
 from clearance.scenario.build import with_clearances
-from clearance.scenario.schema import IK_SPACING as _IK_SPACING
-from clearance.scenario.schema import InitialPlacement, Scenario, ik_poses
+from clearance.scenario.schema import InitialPlacement, Scenario
+from clearance.scenario.trajectories import IK_SPACING as _IK_SPACING
 from clearance.store.result import Result
 
 # what a cold compile (empty kernel cache) takes on the project machine, for the notice
@@ -47,7 +47,8 @@ COLD_COMPILE_NOTE = "one time, about 50 s on the project machine (2 cores); cach
 
 # RMS comparisons skip the settling of the ball into first contact (mechanisms.md 1.6)
 SKIP_SETTLING = 0.05  # [s] PROPOSED
-# IK samples: every IK_SPACING s and >= 50 per trajectory period (scenario.schema.ik_poses)
+# IK samples: every IK_SPACING s, >= 50 per period, at via points and table rows
+# (clearance.scenario.trajectories.ik_times)
 IK_SPACING = _IK_SPACING
 
 
@@ -872,8 +873,8 @@ def run_scenario(
     compiling.enter_context(CompileNotice(log))
     with timer("inverse_kinematics"):
         t_end = info.t_end
-        n_ik = ik_poses(t_end, info.trajectory.period)
-        times = np.linspace(0.0, t_end, n_ik)
+        times = info.trajectory.ik_times()
+        n_ik = times.size
         if ik is None:
             _say(log, f"[2/5] inverse kinematics: {n_ik} poses over {t_end:g} s")
             ik = inverse_kinematics(

@@ -246,7 +246,8 @@ def motion_scales(c: Compiled, info) -> tuple[float, float]:
     info: the scenario's `BuildInfo`."""
     f = info.pose_functions()
     # (a periodic trajectory sampled at least 40 times per period: no aliasing)
-    n = int(min(max(2001, 40 * info.t_end / info.trajectory.period), 200_001))
+    scale = getattr(info.trajectory, "time_scale", info.trajectory.period)
+    n = int(min(max(2001, 40 * info.t_end / scale), 200_001))
     ts = np.linspace(0.0, info.t_end, n)
     lever = max(
         (

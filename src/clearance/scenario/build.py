@@ -33,6 +33,7 @@ from clearance.scenario.schema import (
     TrajectoryShape,
     TrajectorySpec,
 )
+from clearance.scenario.trajectories import pose_function
 
 __all__ = ["BUILDERS", "BuildInfo", "build_mechanisms", "shape_function", "with_clearances"]
 
@@ -88,13 +89,19 @@ class BuildInfo:
         """x, y, z [m] of the platform marker and the angles [rad] of `pose_sequence`
         (keys "angle_1".."angle_3") as time functions: home + amplitude g(t)."""
         tr, w = self.trajectory, self.trajectory.omega
-        out = {
-            c: shape_function(tr.shape, h, tr.amplitude.get(c, 0.0), w)
-            for c, h in zip(("x", "y", "z"), self.home_position, strict=True)
-        }
+        if tr.shape in (TrajectoryShape.REST_TO_REST, TrajectoryShape.SIN):
+
+            def fn(c: str, home: float) -> TimeFunction:
+                return shape_function(tr.shape, home, tr.amplitude.get(c, 0.0), w)
+        else:
+
+            def fn(c: str, home: float) -> TimeFunction:
+                return pose_function(tr, c, home)
+
+        out = {c: fn(c, h) for c, h in zip(("x", "y", "z"), self.home_position, strict=True)}
         for k in range(3):
             name = self.angle_coordinates[k] if k < len(self.angle_coordinates) else ""
-            out[f"angle_{k + 1}"] = shape_function(tr.shape, 0.0, tr.amplitude.get(name, 0.0), w)
+            out[f"angle_{k + 1}"] = fn(name, 0.0)
         return out
 
     def platform_trajectory(self) -> Any:

@@ -40,6 +40,7 @@ from clearance.scenario.schema import (
     MECHANISMS,
     OUTPUT_FIELDS,
     SCENARIO_FIELDS,
+    SHAPE_TABLES,
     SOLVER_FIELDS,
     TOP_KEYS,
     TRAJECTORY_FIELDS,
@@ -50,6 +51,7 @@ from clearance.scenario.schema import (
     scenario_from_dict,
 )
 from clearance.scenario.serialize import scenario_to_dict
+from clearance.scenario.trajectories import HARMONIC_KEYS
 
 __all__ = ["allowed_keys", "get_path", "set_path", "split_path", "with_overrides"]
 
@@ -114,7 +116,7 @@ def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
         mech_keys = MECHANISM_KEYS if parallel else ("type", *(kind.params.spec() if kind else ()))
         sections = {
             "scenario": tuple(SCENARIO_FIELDS),
-            "trajectory": (*TRAJECTORY_FIELDS, "amplitude"),
+            "trajectory": (*TRAJECTORY_FIELDS, *SHAPE_TABLES),
             "clearance": (*CLEARANCE_FIELDS, "joints"),
             "solver": tuple(SOLVER_FIELDS),
             "output": tuple(OUTPUT_FIELDS),
@@ -124,8 +126,15 @@ def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
         return sections.get(head)
     if head == "mechanism":
         return _PARALLEL_TABLES.get(tuple(keys[1:])) if parallel else None
-    if keys[:2] == ["trajectory", "amplitude"] and n == 2:
-        return kind.coordinates if kind else ()
+    if head == "trajectory" and n >= 2:
+        coords = kind.coordinates if kind else ()
+        if n == 2 and keys[1] in ("amplitude", "periodic"):
+            return coords
+        if n == 2 and keys[1] in ("via_points", "table"):
+            return ("t", *coords, *(("file",) if keys[1] == "table" else ()))
+        if n == 3 and keys[1] == "periodic":
+            return HARMONIC_KEYS
+        return None
     if head != "clearance" or keys[1] != "joints":
         return None
     groups = leg_groups(kind)

@@ -22,7 +22,10 @@ import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
+from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from clearance.analysis import plausibility as _pl
 from clearance.analysis.cost import LONG_RUN_SECONDS
@@ -50,9 +53,20 @@ from clearance.model.errors import ModelError
 from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_mean
 from clearance.scenario.fields import REQUIRED, Field, parse_table, table_at
 from clearance.scenario.parallel import ParallelParams, joint_kinds, parse_parallel
+from clearance.scenario.trajectories import (  # (IK_SPACING: re-exported)
+    IK_PER_PERIOD,
+    IK_SPACING,
+    MAX_IK_POSES,
+    ik_count,
+    ik_times,
+    parse_harmonics,
+    parse_samples,
+    time_scale,
+)
 
 __all__ = [
     "FORMAT_VERSION",
+    "IK_SPACING",
     "MECHANISMS",
     "CLEARANCE_KINDS",
     "ClearanceKindSpec",
@@ -88,6 +102,9 @@ class MechanismType(str, Enum):
 class TrajectoryShape(str, Enum):
     REST_TO_REST = "rest-to-rest"  # g = (1 - cos(2 pi t / period)) / 2
     SIN = "sin"  # g = sin(2 pi t / period)
+    PERIODIC = "periodic"  # sums of sinusoids per coordinate ([trajectory.periodic])
+    VIA_POINTS = "via-points"  # quintic spline through points, rest to rest
+    TABLE = "table"  # cubic spline through tabulated values (a CSV file or inline)
 
 
 class InitialPlacement(str, Enum):
@@ -192,6 +209,7 @@ TRAJECTORY_FIELDS = {
     "positions": Field("choices", None, doc="prescribed coordinates", choices=("x", "y", "z")),
 }
 PARALLEL_ONLY = ("orientation", "sequence", "positions")
+SHAPE_TABLES = ("amplitude", "periodic", "via_points", "table")  # one per shape
 CLEARANCE_FIELDS = {
     "initial": Field(
         "choice",
@@ -428,7 +446,9 @@ class TrajectorySpec:
     """Platform pose = home + amplitude[coord] * g(t); g = 0 at t = 0 (mechanisms.md 1.5, 2.3).
 
     amplitude: coordinate -> amplitude ([m] for positions, [rad] for angles), every
-    coordinate of the mechanism type present (0 = not moved). orientation, sequence,
+    coordinate of the mechanism type present (0 = not moved; shapes rest-to-rest and sin).
+    harmonics (shape periodic) and samples (via-points, table): the displacements from home
+    (`clearance.scenario.trajectories`). orientation, sequence,
     positions (type "parallel" only, else None): the platform pose the trajectory
     prescribes (`clearance.analysis.ik.PlatformTrajectory` mode, sequence, positions).
     """
@@ -440,6 +460,17 @@ class TrajectorySpec:
     orientation: str | None = None  # type = "parallel": "full", "axis" or "none"
     sequence: str | None = None  # type = "parallel": rotation sequence of alpha, beta, gamma
     positions: tuple | None = None  # type = "parallel": prescribed x, y, z
+    harmonics: dict | None = None  # periodic: coordinate -> ((amplitude, period, phase), ...)
+    samples: dict | None = None  # via-points, table: {"t": times, coordinate: values}
+
+    def ik_times(self) -> np.ndarray:
+        """Sample times of the inverse kinematics (clearance.scenario.trajectories)."""
+        return ik_times(self)
+
+    @property
+    def time_scale(self) -> float:
+        """Shortest period or sample interval of the motion [s]."""
+        return time_scale(self)
 
     @property
     def omega(self) -> float:
@@ -832,10 +863,24 @@ def _trajectory(
     problems: Problems,
     mech: MechanismSpec | None = None,
     parallel: bool = False,
+    base_dir: Path | None = None,
 ) -> TrajectorySpec | None:
     n0 = len(problems)
-    kw = parse_table(t, TRAJECTORY_FIELDS, "trajectory", problems, extra=("amplitude",))
+    kw = parse_table(t, TRAJECTORY_FIELDS, "trajectory", problems, extra=SHAPE_TABLES)
     orientation, sequence, positions = _pose_fields(kw, mech, parallel, problems)
+    shape = kw.get("shape")
+    own = {"periodic": "periodic", "via-points": "via_points", "table": "table"}.get(
+        shape, "amplitude"
+    )
+    for key in SHAPE_TABLES:
+        if key in t and key != own:
+            problems.add(
+                f"trajectory.{key}",
+                t[key],
+                f"not used by shape = '{shape}' (it reads [trajectory.{own}])",
+            )
+    if own != "amplitude" and own not in t:
+        problems.add(f"trajectory.{own}", MISSING, f"required by shape = '{shape}'")
     amp: dict[str, float] = {}
     at = table_at(t.get("amplitude", {}), "trajectory.amplitude", problems)
     if at is not None and kind is not None:
@@ -856,62 +901,89 @@ def _trajectory(
             else:
                 amp[key] = float(v)
         amp = {c: amp.get(c, 0.0) for c in units}
-        free = [c for c in PARALLEL_POSITIONS if positions is not None and c not in positions]
-        if orientation == "none":
-            free += list(PARALLEL_ANGLES)
-        for c in free:
-            if amp.get(c, 0.0) != 0.0:
-                problems.add(
-                    f"trajectory.amplitude.{c}",
-                    amp[c],
-                    "this coordinate is left to the mechanism (trajectory.positions / "
-                    "orientation): its amplitude must be 0",
-                )
     if len(problems) > n0 or kind is None:
         return None
     period = kw["period"] if kw["period"] is not None else kw["duration"]
-    n = ik_poses(kw["duration"], period)
-    by_period = period / IK_PER_PERIOD < IK_SPACING  # (long runs at 0.02 s: no limit)
-    if by_period and n > MAX_IK_POSES:  # (aliased, the IK would see a platform at rest)
-        problems.add(
-            "trajectory.period",
-            period,
-            f"a period this short over duration = {kw['duration']:g} s needs {n} inverse-"
-            f"kinematics poses ({IK_PER_PERIOD} per period, so that the drives follow the "
-            f"motion); at most {MAX_IK_POSES} (about 40 s of IK): use a period of at least "
-            f"{kw['duration'] * IK_PER_PERIOD / (MAX_IK_POSES - 1):.3g} s or a shorter duration",
+    units = {**dict.fromkeys(kind.positions, "m"), **dict.fromkeys(kind.angles, "rad")}
+    harmonics = samples = None
+    if own == "periodic":
+        harmonics = parse_harmonics(t["periodic"], units, period, MAX_AMPLITUDE, problems)
+    elif own in ("via_points", "table"):
+        samples = parse_samples(
+            t[own],
+            f"trajectory.{own}",
+            units,
+            duration=kw["duration"],
+            table=own == "table",
+            base_dir=base_dir,
+            max_amplitude=MAX_AMPLITUDE,
+            problems=problems,
         )
+    if len(problems) > n0:
         return None
-    return TrajectorySpec(
+    free = [c for c in PARALLEL_POSITIONS if positions is not None and c not in positions]
+    if orientation == "none":
+        free += list(PARALLEL_ANGLES)
+    elif orientation == "axis" and sequence and sequence[-1] == "z":
+        free.append(PARALLEL_ANGLES[2])  # (a last turn about z leaves the normal R e_z)
+    moved = {**{c: a for c, a in amp.items() if a != 0.0}, **(harmonics or {})}
+    moved.update({c: v for c, v in (samples or {}).items() if c != "t"})
+    for c in free:
+        if c in moved and any(x != 0.0 for x in np.ravel(moved[c])):
+            problems.add(
+                f"trajectory.{own}.{c}",
+                moved[c],
+                "this coordinate is left to the mechanism (trajectory.positions / "
+                "orientation): it must not move",
+            )
+    spec = TrajectorySpec(
         TrajectoryShape(kw["shape"]),
         kw["duration"],
         period,
-        amp,
+        amp if own == "amplitude" else {c: 0.0 for c in units},
         orientation,
         sequence,
         positions,
+        harmonics,
+        samples,
     )
+    n, scale = ik_times(spec).size, spec.time_scale
+    if samples is not None:  # (the rows and via points themselves: long runs at 0.02 s are
+        forced = sum(1 for x in samples["t"] if 0.0 < x < kw["duration"])  # not limited)
+    else:
+        forced = n if scale / IK_PER_PERIOD < IK_SPACING else 0
+    if forced > MAX_IK_POSES:  # (aliased, the IK would see a platform at rest)
+        problems.add(
+            "trajectory.period" if own == "amplitude" else f"trajectory.{own}",
+            period if own == "amplitude" else scale,
+            f"a motion this fast (time scale {scale:.3g} s) over duration = {kw['duration']:g} "
+            f"s needs {n} inverse-kinematics poses ({IK_PER_PERIOD} per period, so that the "
+            f"drives follow the motion); at most {MAX_IK_POSES} (about 40 s of IK): use a "
+            f"period of at least {kw['duration'] * IK_PER_PERIOD / (MAX_IK_POSES - 1):.3g} s "
+            "or a shorter duration",
+        )
+    if len(problems) > n0:
+        return None
+    return spec
 
 
 # largest trajectory amplitude by unit (PROPOSED): metres of platform travel and radians of
 # tilt no parallel mechanism of this field comes near
 MAX_AMPLITUDE = {"m": 100.0, "rad": 100.0}
 
-# inverse kinematics samples (run_scenario): every IK_SPACING seconds, and at least
-# IK_PER_PERIOD per period of the trajectory; the drives are quintic Hermite splines
-# through them (errors ~1e-11 m at the shipped 100 per period; ~(2 pi / 50)^6 = 4e-6 of
-# the amplitude at 50). PROPOSED. A period that needs more than MAX_IK_POSES samples is
-# refused; long runs at IK_SPACING are not limited (as before).
-IK_SPACING = 0.02  # [s]
-IK_PER_PERIOD = 50
-MAX_IK_POSES = 10_000  # ~4 ms per pose on the project machine: ~40 s
-
 
 def ik_poses(duration: float, period: float) -> int:
-    """Number of inverse-kinematics poses of a trajectory (`run_scenario`'s IK samples)."""
-    spacing = min(IK_SPACING, period / IK_PER_PERIOD)
-    n = duration / spacing
-    return max(2, int(round(n)) + 1) if n < 1e15 else 10**15
+    """Number of inverse-kinematics poses of a periodic trajectory (`ik_count`)."""
+    return ik_count(duration, period)
+
+
+def _base_dir(source: str) -> Path:
+    """The folder that a file's relative paths (a trajectory table) start from."""
+    try:
+        p = Path(source)
+        return p.parent if p.is_file() else Path.cwd()
+    except (OSError, ValueError):  # (a source that is no path: "<string>", too long, ...)
+        return Path.cwd()
 
 
 def _section(d: Mapping, name: str, problems: Problems, *, required: bool = False) -> dict | None:
@@ -984,7 +1056,8 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
         mech, kind = _mechanism(t, problems, meta.name if meta is not None else "mechanism")
     if (t := _section(d, "trajectory", problems)) is not None:
         mtype = d["mechanism"].get("type") if isinstance(d.get("mechanism"), dict) else None
-        traj = _trajectory(t, kind, problems, mech, mtype == MechanismType.PARALLEL.value)
+        base_dir = _base_dir(source)
+        traj = _trajectory(t, kind, problems, mech, mtype == MechanismType.PARALLEL.value, base_dir)
     if (t := _section(d, "clearance", problems)) is not None:
         clr = _clearance(t, kind, mech.params if mech is not None else None, problems)
     if (t := _section(d, "solver", problems)) is not None:

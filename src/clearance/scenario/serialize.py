@@ -70,12 +70,21 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
     else:
         mechanism = {"type": s.mechanism.type.value, **fields_of(params)}
     tr = s.trajectory
-    trajectory = {
+    trajectory: dict[str, object] = {
         "shape": tr.shape.value,
         "duration": tr.duration,
         "period": tr.period,
-        "amplitude": dict(tr.amplitude),
     }
+    if tr.harmonics is not None:  # periodic
+        trajectory["periodic"] = {
+            c: [{"amplitude": a, "period": p, "phase": ph} for a, p, ph in hs]
+            for c, hs in tr.harmonics.items()
+        }
+    elif tr.samples is not None:  # via-points, table (a table's file: its columns inline)
+        key = "table" if tr.shape.value == "table" else "via_points"
+        trajectory[key] = {c: list(v) for c, v in tr.samples.items()}
+    else:
+        trajectory["amplitude"] = dict(tr.amplitude)
     for key in ("orientation", "sequence", "positions"):  # (type "parallel" only)
         if getattr(tr, key) is not None:
             trajectory[key] = _plain(getattr(tr, key))
