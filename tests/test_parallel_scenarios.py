@@ -243,3 +243,45 @@ def test_cli_draw_sketches_the_home_pose(tmp_path) -> None:
     out = subprocess.run([*cmd, "--out", str(dest)], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert dest.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_study_on_a_library_mechanism(tmp_path) -> None:
+    """Studies address a parallel mechanism's joints by name ("leg1.S"), nested paths and
+    joint sets, on a library scenario as base."""
+    from clearance.sweep.study import case_scenario_dict, loads_study
+
+    text = """
+format_version = 1
+[study]
+name = "rps"
+base = "rps3"
+metrics = ["peak_contact_force@leg1.S", "impacts"]
+[set]
+trajectory.duration = 0.05
+[[parameter]]
+name = "c"
+path = "clearance.joints.leg1.S.radial_clearance"
+values = [5e-5, 1e-4]
+[[parameter]]
+name = "joints"
+path = "clearance.joints"
+values = [["leg1.S"], ["leg1.S", "leg3.S"]]
+"""
+    st = loads_study(text, root=tmp_path)
+    assert len(st.cases) == 4
+    for case in st.cases:
+        d = case_scenario_dict(st.base, case.overrides, joint_template=st.joint_template)
+        s = loads_scenario(scenario_to_toml(loads_scenario_dict(d)))
+        assert set(s.clearance.joints) == set(case.overrides["clearance.joints"])
+        assert s.clearance.joints["leg1.S"].radial_clearance == pytest.approx(
+            case.overrides["clearance.joints.leg1.S.radial_clearance"]
+        )
+    bad = text.replace("@leg1.S", "@leg1.Q")
+    with pytest.raises(ScenarioError, match="unknown joint 'leg1.Q'"):
+        loads_study(bad, root=tmp_path)
+
+
+def loads_scenario_dict(d):
+    from clearance.scenario import scenario_from_dict
+
+    return scenario_from_dict(d)

@@ -216,7 +216,7 @@ def test_actuator_panels_are_named_by_leg_with_the_sign_convention(loaded):
     fig = plot_actuator_forces(loaded)
     titles = [ax.get_title(loc="left") for ax in fig.get_axes()]
     assert "leg 1 (drive_1)" in titles and "leg 5 (drive_5)" in titles
-    assert "extends the leg" in fig._suptitle.get_text()
+    assert "extends a leg" in fig._suptitle.get_text()
 
 
 def test_plot_refuses_a_collected_study_clearly(loaded, tmp_path):

@@ -132,7 +132,8 @@ def _rotate(R: np.ndarray, w: np.ndarray) -> np.ndarray:
 
 
 def _driver_units(kind: str) -> str:
-    return "N m" if kind == "OrientationDriver" else "N"
+    """Units of a driver's multiplier: a torque for rotations (motor angle, orientation)."""
+    return "N m" if kind in ("OrientationDriver", "RevoluteDriver") else "N"
 
 
 # ----------------------------------------------------------------------------- Result -> Dataset

@@ -791,8 +791,8 @@ def plot_actuator_forces(datasets: Mapping[str, xr.Dataset]) -> Figure | None:
     _title(
         fig,
         datasets,
-        "Actuator forces (F = −λ; F > 0 pushes along the driver's positive "
-        "direction: extends the leg)",
+        "Actuator forces (F = −λ; F > 0 drives the actuator forward: extends a leg, "
+        "turns a motor's angle)",
     )
     return fig
 

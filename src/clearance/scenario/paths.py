@@ -53,7 +53,15 @@ from clearance.scenario.schema import (
 from clearance.scenario.serialize import scenario_to_dict
 from clearance.scenario.trajectories import HARMONIC_KEYS
 
-__all__ = ["allowed_keys", "get_path", "set_path", "split_path", "with_overrides"]
+__all__ = [
+    "allowed_keys",
+    "flat_joints",
+    "get_path",
+    "mechanism_kind",
+    "set_path",
+    "split_path",
+    "with_overrides",
+]
 
 _SEGMENT = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
 
@@ -76,6 +84,30 @@ def split_path(path: str, *, source: str = "<path>") -> list[str | int]:
 
 def _get(d: object, key: str) -> object:
     return d.get(key, MISSING) if isinstance(d, Mapping) else MISSING
+
+
+def flat_joints(d: Mapping) -> dict[str, object]:
+    """{joint name: table} of a scenario dict's [clearance.joints], a parallel mechanism's
+    joints nested by leg ([clearance.joints.leg1.S]) named "leg1.S"."""
+    joints = _get(_get(d, "clearance"), "joints")
+    out: dict[str, object] = {}
+    for k, v in (joints if isinstance(joints, Mapping) else {}).items():
+        group = (
+            isinstance(v, Mapping)
+            and bool(v)
+            and "kind" not in v
+            and all(isinstance(x, Mapping) for x in v.values())
+        )
+        if group:
+            out.update({f"{k}.{sub}": t for sub, t in v.items()})
+        else:
+            out[k] = v
+    return out
+
+
+def mechanism_kind(d: Mapping):
+    """The MechanismKind of a scenario dict (None if its mechanism does not validate)."""
+    return _mechanism_kind(d)
 
 
 def _mechanism_kind(d: Mapping):

@@ -42,8 +42,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from clearance.scenario.errors import MISSING, Problems, ScenarioError
-from clearance.scenario.paths import set_path, split_path
-from clearance.scenario.schema import MECHANISMS, MechanismType, scenario_from_dict
+from clearance.scenario.paths import flat_joints, mechanism_kind, set_path, split_path
+from clearance.scenario.schema import scenario_from_dict
 from clearance.scenario.serialize import scenario_to_dict
 from clearance.scenario.toml_io import default_scenarios, load_scenario, read_toml
 from clearance.sweep.design import (
@@ -172,13 +172,16 @@ def _depth(path: str) -> int:
 
 def _joint_tables(base: Mapping, names: Sequence, template: str | None, source: str) -> dict:
     """{joint: table} for a joint set: the base's table of that joint, else the template's."""
-    joints = base.get("clearance", {}).get("joints", {})
-    out = {}
+    joints = flat_joints(base)
+    out: dict = {}
     for name in names:
-        if name in joints:
-            out[name] = joints[name]
-        elif template is not None and template in joints:
-            out[name] = joints[template]
+        if name in joints or (template is not None and template in joints):
+            table = joints[name] if name in joints else joints[template]  # type: ignore[index]
+            if "." in name:  # a parallel mechanism's "leg1.S": nested by leg, as the
+                leg, sub = name.split(".", 1)  # scenario dict writes it (paths below it)
+                out.setdefault(leg, {})[sub] = table
+            else:
+                out[name] = table
         else:
             raise ScenarioError(
                 source,
@@ -226,8 +229,11 @@ def _flatten(t: Mapping, prefix: str = "") -> dict[str, object]:
 
 
 def _shipped() -> tuple[str, ...]:
-    """Shipped scenario names (studies live apart, in clearance/data/studies/)."""
-    return tuple(default_scenarios())
+    """Shipped scenario names: clearance/data's and the library's (studies live apart, in
+    clearance/data/studies/)."""
+    from clearance.scenario.toml_io import library
+
+    return tuple(dict.fromkeys((*default_scenarios(), *library())))
 
 
 def example_study_path() -> Path:
@@ -241,7 +247,7 @@ def example_study_path() -> Path:
 
 def _resolve_base(base: object, root: Path | None, problems: Problems) -> tuple[dict, str] | None:
     """The base scenario as a canonical dict: a shipped name or a file (relative to root)."""
-    from clearance.scenario.toml_io import default_scenario_path
+    from clearance.scenario.toml_io import default_scenario_path, library_path
 
     if not isinstance(base, str) or not base.strip():
         shipped = ", ".join(_shipped())
@@ -251,7 +257,7 @@ def _resolve_base(base: object, root: Path | None, problems: Problems) -> tuple[
     if not p.is_absolute() and root is not None:
         p = root / p
     if not p.is_file() and base in _shipped():
-        p = default_scenario_path(base)
+        p = default_scenario_path(base) if base in default_scenarios() else library_path(base)
     if not p.is_file():
         shipped = ", ".join(_shipped())
         problems.add("study.base", base, f"no such scenario file; shipped scenarios: {shipped}")
@@ -376,12 +382,8 @@ def study_from_dict(
         problems.add("sampling", d["sampling"], "no parameter has sample = {min, max}")
 
     # metrics and the joint template
-    mech_type = base.get("mechanism", {}).get("type") if base else None
-    joints = (
-        tuple(MECHANISMS[MechanismType(mech_type)].clearance_joints)
-        if mech_type in [m.value for m in MechanismType]
-        else ()
-    )
+    kind = mechanism_kind(base) if base else None
+    joints = tuple(kind.clearance_joints) if kind is not None else ()
     metrics = st.get("metrics", list(METRICS))
     if not isinstance(metrics, list) or not metrics:
         problems.add("study.metrics", metrics, f"a non-empty list; allowed: {', '.join(METRICS)}")
@@ -391,7 +393,7 @@ def study_from_dict(
         if msg:
             problems.add(f"study.metrics[{i}]", m, msg)
     template = st.get("joint_template")
-    base_joints = list((base or {}).get("clearance", {}).get("joints", {}))
+    base_joints = list(flat_joints(base or {}))
     if template is not None and base is not None and template not in base_joints:
         problems.add("study.joint_template", template, f"a joint of the base: {base_joints}")
     template = template if template is not None else (base_joints[0] if base_joints else None)
