@@ -285,3 +285,27 @@ def loads_scenario_dict(d):
     from clearance.scenario import scenario_from_dict
 
     return scenario_from_dict(d)
+
+
+def test_a_singular_trajectory_is_refused_before_the_run_naming_legs(tmp_path) -> None:
+    """A 3-RPS tilted 1.2 rad passes a singular configuration: the inverse kinematics (run
+    by `clearance run` before it integrates, and by `clearance check`) refuses it with
+    the time and the legs and joints involved."""
+    from clearance.pipeline import _kernels_cached
+
+    text = (
+        library_path("rps3")
+        .read_text()
+        .replace("alpha = { amplitude = 0.03 }", "alpha = { amplitude = 1.2 }")
+    )
+    f = tmp_path / "sing.toml"
+    f.write_text(text)
+    with pytest.raises(
+        cl.KinematicsError, match=r"singular configuration.*leg1\.drive \(joint leg1\.P"
+    ):
+        run_scenario(load_scenario(f), out_dir=tmp_path / "out", log=None, figures=False)
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+    if _kernels_cached():  # (`check` runs the IK once the kernels are compiled)
+        cmd = [sys.executable, "-m", "clearance.cli.main", "check", str(f)]
+        out = subprocess.run(cmd, capture_output=True, text=True)
+        assert out.returncode == 2 and "leg1.P" in out.stderr, out.stderr

@@ -212,9 +212,43 @@ def check(file: Path = typer.Argument(..., help="scenario file (TOML)")) -> None
             typer.echo(line, err=True)
         raise typer.Exit(2) from None
     note = "" if s.mechanism.type in BUILDERS else " (validates; no builder in this version)"
+    if s.mechanism.type in BUILDERS and not _check_trajectory(s, file):
+        raise typer.Exit(2)
     typer.echo(f"OK {file}: {s.summary()}{note}")
     if s.mechanism.type in BUILDERS:
         _check_cost(s)
+
+
+def _check_trajectory(s, file: Path) -> bool:
+    """`check`: the inverse kinematics along the whole trajectory (singular or unreachable
+    poses are refused naming the time and the legs), when the kernels are compiled
+    already (else it would compile them: the first run's ~1 min)."""
+    from clearance.model.errors import KinematicsError, ModelError
+    from clearance.pipeline import _kernels_cached
+    from clearance.scenario import build_mechanisms
+
+    if not _kernels_cached():
+        typer.echo("inverse kinematics: checked by the first run (the kernels are not compiled)")
+        return True
+    from clearance.analysis.ik import inverse_kinematics
+
+    try:
+        ideal, _, info = build_mechanisms(s)
+        ik = inverse_kinematics(
+            info.ik_mechanism or ideal,
+            info.platform_trajectory(),
+            platform_marker=info.platform_marker,
+            actuators=info.actuators,
+            times=s.trajectory.ik_times(),
+        )
+    except (KinematicsError, ModelError) as e:
+        typer.echo(f"{file}: the trajectory cannot be followed: {e}", err=True)
+        return False
+    typer.echo(
+        f"inverse kinematics: {ik.times.size} poses, drive Jacobian condition <= "
+        f"{ik.max_condition:.3g}"
+    )
+    return True
 
 
 def _check_cost(s) -> None:
