@@ -38,8 +38,12 @@ MOBILITY = {
 }
 
 
+# entries written element by element (type "general"): tests/test_general_scenarios.py
+GENERAL = {"slider_crank"}
+
+
 def test_every_library_entry_is_covered() -> None:
-    assert set(library()) == set(MOBILITY)
+    assert set(library()) == set(MOBILITY) | GENERAL
 
 
 def _two_body(name: str):
@@ -114,3 +118,113 @@ def test_a_short_clearance_run_of_the_file_is_plausible(name: str, tmp_path) -> 
     assert not implausible(run.summary), run.summary
     for k in ("ideal", "clearance"):
         assert run.summary[k]["plausibility"]["status"] == "ok", run.summary[k]
+
+
+# ---------------------------------------------------------------- the same in Python
+def _rod(m: float, jt: float, com: float, length: float, ja: float = 1e-5) -> cl.Link:
+    return cl.Link(m, (jt, jt, ja), com=com, length=length)
+
+
+def python_stewart() -> cl.ParallelMechanism:
+    part = cl.Link(0.1, (0.00625, 0.00625, 0.00625), com=0.5)
+    base = [
+        (-2.12, 1.374, 0.0),
+        (-2.38, 1.224, 0.0),
+        (-2.38, -1.224, 0.0),
+        (-2.12, -1.374, 0.0),
+        (0.0, -0.15, 0.0),
+        (0.0, 0.15, 0.0),
+    ]
+    plat = [
+        (0.17, 0.595, -0.4),
+        (-0.6, 0.15, -0.4),
+        (-0.6, -0.15, -0.4),
+        (0.17, -0.595, -0.4),
+        (0.43, -0.445, -0.4),
+        (0.43, 0.445, -0.4),
+    ]
+    return cl.ParallelMechanism(
+        "stewart",
+        cl.Platform(1.5, (0.08, 0.08, 0.08), position=(-1.5, 0.0, 1.0)),
+        cl.legs("UPS", base=base, platform=plat, links=(part, part)),
+        gravity=(0.0, 0.0, -9.80665),
+    )
+
+
+def python_delta() -> cl.ParallelMechanism:
+    ang = [-90.0, 30.0, 150.0]
+    return cl.ParallelMechanism(
+        "delta",
+        cl.Platform(0.5, (0.00045, 0.00045, 0.0009), position=(0.0, 0.0, -1.0644517)),
+        cl.legs(
+            "RSS",
+            base=cl.circle(0.1636788013152589, ang),
+            platform=cl.circle(0.04387862045841156, ang),
+            links=(
+                _rod(1.0, 0.022881333333333337, 0.262, 0.524, 1e-4),
+                _rod(0.15, 0.0193442, 0.622, 1.244),
+            ),
+            parallelogram=0.10,
+        ),
+        dof=3,
+    )
+
+
+def python_three(joints: str) -> cl.ParallelMechanism:
+    ang = [90.0, 210.0, 330.0]
+    if joints == "RPS":
+        links, opts = (_rod(1.0, 0.0075, 0.15, 0.3), _rod(1.0, 0.0075, 0.15, 0.3)), {}
+    else:
+        links = (cl.Link(1.0, (0.01, 0.01, 0.01)), _rod(1.0, 0.016875, 0.225, 0.45))
+        opts = {"rail": (0.0, 0.0, 1.0)}
+    return cl.ParallelMechanism(
+        f"{joints.lower()}3",
+        cl.Platform(5.0, (0.05, 0.05, 0.1), position=(0.0, 0.0, 0.5)),
+        cl.legs(
+            joints, base=cl.circle(0.3, ang), platform=cl.circle(0.15, ang), links=links, **opts
+        ),
+    )
+
+
+def python_pss_upu5() -> cl.ParallelMechanism:
+    rod = _rod(1.0, 0.013333333333333334, 0.2, 0.4)
+    o = (0.0, 0.0, 0.0)
+    return cl.ParallelMechanism(
+        "pss_upu5",
+        cl.Platform(5.0, (0.05, 0.05, 0.1), position=(0.0, 0.0, 0.6)),
+        (
+            cl.legs(
+                "PSS",
+                base=cl.circle(0.35, [90.0, 162.0, 234.0, 306.0, 18.0]),
+                platform=cl.circle(0.15, [120.0, 192.0, 204.0, 276.0, 18.0]),
+                links=(cl.Link(1.0, (0.01, 0.01, 0.01)), rod),
+                rail=(0.0, 0.0, 1.0),
+            ),
+            cl.Leg("UPU", o, o, (rod, rod), actuated=None, name="centre"),
+        ),
+        dof=5,
+    )
+
+
+PYTHON = {
+    "stewart": python_stewart,
+    "delta": python_delta,
+    "rps3": lambda: python_three("RPS"),
+    "prs3": lambda: python_three("PRS"),
+    "pss_upu5": python_pss_upu5,
+}
+
+
+@pytest.mark.parametrize("name", sorted(PYTHON))
+def test_file_and_python_give_the_same_model(name: str) -> None:
+    """The library file and the Python builder with the same numbers compile to the same
+    arrays (the seeds: tests/test_parallel_scenarios.py; slider_crank:
+    tests/test_general_scenarios.py)."""
+    ideal, _, info = build_mechanisms(load_scenario(library_path(name)))
+    pm = PYTHON[name]()
+    c1, c2 = cl.compile_mechanism(ideal), cl.compile_mechanism(pm.build())
+    for k in c1.model._fields:
+        a, b = getattr(c1.model, k), getattr(c2.model, k)
+        if isinstance(a, np.ndarray):
+            assert a.shape == b.shape and np.array_equal(a, b, equal_nan=True), k
+    assert info.actuators == pm.actuators

@@ -40,6 +40,15 @@ from clearance.scenario import (
     set_path,
     with_overrides,
 )
+from clearance.scenario.general import (
+    DRIVER_TYPES,
+    FORCE_TYPES,
+    FUNCTION_TYPES,
+    GENERAL_KEYS,
+    JOINT_TYPES,
+    SECTIONS,
+    element_keys,
+)
 from clearance.scenario.parallel import (
     ATTACH_KEYS,
     LEG_KEYS,
@@ -494,8 +503,9 @@ def test_cli_check() -> None:
     r = runner.invoke(app, ["check", str(path)])
     assert r.exit_code == 0, r.output
     lines = r.stdout.splitlines()
-    assert lines[0].startswith(f"OK {path}") and len(lines) == 2
-    assert lines[1].startswith(("estimated clearance run: about", "cost estimate: after"))
+    assert lines[0].startswith(f"OK {path}") and len(lines) == 3
+    assert lines[1].startswith("inverse kinematics: ")  # (the IK along the trajectory)
+    assert lines[2].startswith(("estimated clearance run: about", "cost estimate: after"))
     assert "4ups-upu" in r.stdout and "S_1, S_3" in r.stdout
     r = runner.invoke(app, ["check", str(default_scenario_path("sps_cu"))])
     assert r.exit_code == 0 and "4sps-cu" in r.stdout and "no builder" not in r.stdout
@@ -612,6 +622,13 @@ def test_ups_upu_params_overrides() -> None:
 # --------------------------------------------------------------------------- docs
 
 
+def _keys(section: str, t: str | None) -> tuple[str, ...]:
+    try:
+        return element_keys(section, t)
+    except (KeyError, TypeError):
+        return ()
+
+
 def test_docs_document_every_field() -> None:
     text = DOCS.read_text()
     names = [
@@ -628,6 +645,19 @@ def test_docs_document_every_field() -> None:
         *LEG_KEYS,
         *LINK_KEYS,
         *ATTACH_KEYS,
+        *GENERAL_KEYS,
+        *(
+            f'"{t}"'
+            for reg in (JOINT_TYPES, DRIVER_TYPES, FORCE_TYPES, FUNCTION_TYPES)
+            for t in reg
+        ),
+        *(
+            k
+            for sec in SECTIONS
+            for t in (None, *JOINT_TYPES, *DRIVER_TYPES, *FORCE_TYPES)
+            if sec in ("bodies", "markers") or t
+            for k in _keys(sec, t)
+        ),
     ]
     for spec in CLEARANCE_KINDS.values():
         names += [*spec.fields, *spec.tables]

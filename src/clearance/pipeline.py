@@ -59,7 +59,7 @@ class RunOutput:
     scenario: Scenario
     ideal: Result
     clearance: Result
-    ik: IKResult
+    ik: IKResult | None  # None: no inverse kinematics (a general mechanism's own drivers)
     summary: dict
     files: list = field(default_factory=list)
     timings: dict = field(default_factory=dict)
@@ -320,6 +320,8 @@ def _with_lumped_actuator_forces(r: Result, s: Scenario) -> Result:
         return r
     params = s.mechanism.params
     pm = getattr(params, "mechanism", None)
+    if pm is not None and not hasattr(pm, "lumped"):  # (a general mechanism: its drivers)
+        return r
     if pm is not None:  # a parallel mechanism: its lumped legs ("<leg>.limb")
         if not pm.lumped:
             return r
@@ -875,7 +877,10 @@ def run_scenario(
         t_end = info.t_end
         times = info.trajectory.ik_times()
         n_ik = times.size
-        if ik is None:
+        if ik is None and not info.actuators:  # (a general mechanism's own drivers)
+            _say(log, "[2/5] no inverse kinematics: the drivers of the file run as given")
+            drives = None
+        elif ik is None:
             _say(log, f"[2/5] inverse kinematics: {n_ik} poses over {t_end:g} s")
             ik = inverse_kinematics(
                 info.ik_mechanism or ideal,
@@ -886,10 +891,12 @@ def run_scenario(
             )
             drives = drives_from_ik(ik)
             ideal, clr, info = build_mechanisms(s, drives=drives)
-    _say(
-        log,
-        f"      drive Jacobian: min sigma {ik.min_sigma:.3g}, max condition {ik.max_condition:.3g}",
-    )
+    if ik is not None:
+        _say(
+            log,
+            f"      drive Jacobian: min sigma {ik.min_sigma:.3g}, "
+            f"max condition {ik.max_condition:.3g}",
+        )
     kw = dict(info.simulate_kwargs)
     import threading
 
@@ -1006,8 +1013,7 @@ def run_scenario(
         {"ideal": r_ideal, "clearance": r_clr},
         out,
         attrs={
-            "ik_min_sigma": ik.min_sigma,
-            "ik_max_condition": ik.max_condition,
+            **({"ik_min_sigma": ik.min_sigma, "ik_max_condition": ik.max_condition} if ik else {}),
             "plausibility": json.dumps(
                 {k: summary[k]["plausibility"] for k in ("ideal", "clearance")}
             ),

@@ -212,28 +212,37 @@ def check(file: Path = typer.Argument(..., help="scenario file (TOML)")) -> None
             typer.echo(line, err=True)
         raise typer.Exit(2) from None
     note = "" if s.mechanism.type in BUILDERS else " (validates; no builder in this version)"
-    if s.mechanism.type in BUILDERS and not _check_trajectory(s, file):
+    ik_line = _check_trajectory(s, file) if s.mechanism.type in BUILDERS else ""
+    if ik_line is None:
         raise typer.Exit(2)
     typer.echo(f"OK {file}: {s.summary()}{note}")
+    if ik_line:
+        typer.echo(ik_line)
     if s.mechanism.type in BUILDERS:
         _check_cost(s)
 
 
-def _check_trajectory(s, file: Path) -> bool:
+def _check_trajectory(s, file: Path) -> str | None:
     """`check`: the inverse kinematics along the whole trajectory (singular or unreachable
     poses are refused naming the time and the legs), when the kernels are compiled
-    already (else it would compile them: the first run's ~1 min)."""
+    already (else it would compile them: the first run's ~1 min). The line to print, or
+    None when the file is refused (the reason printed to stderr)."""
     from clearance.model.errors import KinematicsError, ModelError
     from clearance.pipeline import _kernels_cached
     from clearance.scenario import build_mechanisms
 
+    try:
+        ideal, _, info = build_mechanisms(s)
+    except (KinematicsError, ModelError) as e:
+        typer.echo(f"{file}: {e}", err=True)
+        return None
+    if not info.actuators:  # (a general mechanism's own drivers: no inverse kinematics)
+        return "inverse kinematics: none (the drivers of the file run as given)"
     if not _kernels_cached():
-        typer.echo("inverse kinematics: checked by the first run (the kernels are not compiled)")
-        return True
+        return "inverse kinematics: checked by the first run (the kernels are not compiled)"
     from clearance.analysis.ik import inverse_kinematics
 
     try:
-        ideal, _, info = build_mechanisms(s)
         ik = inverse_kinematics(
             info.ik_mechanism or ideal,
             info.platform_trajectory(),
@@ -243,12 +252,11 @@ def _check_trajectory(s, file: Path) -> bool:
         )
     except (KinematicsError, ModelError) as e:
         typer.echo(f"{file}: the trajectory cannot be followed: {e}", err=True)
-        return False
-    typer.echo(
+        return None
+    return (
         f"inverse kinematics: {ik.times.size} poses, drive Jacobian condition <= "
         f"{ik.max_condition:.3g}"
     )
-    return True
 
 
 def _check_cost(s) -> None:

@@ -238,6 +238,49 @@ def _build_parallel(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, 
     return ideal, with_clearances(ideal, s), info
 
 
+def _build_general(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, BuildInfo]:
+    """A mechanism written element by element (clearance.scenario.general): the file's
+    drivers run as given; those in `trajectory.actuators` get the inverse kinematics'
+    drives (`drives`), the home value of their function until then."""
+    from clearance.analysis.ik import apply_drives
+    from clearance.scenario.general import platform_body
+
+    params = s.mechanism.params
+    mech = params.mechanism.copy()  # type: ignore[union-attr]
+    acts = tuple(s.trajectory.actuators or ())
+    fns = _drive_list(drives, acts, s.source)
+    if fns is not None:
+        mech = apply_drives(mech, dict(zip(acts, fns, strict=True)))
+    mech.name = f"{s.name} (ideal)"
+    body = platform_body(params)  # type: ignore[arg-type]
+    pname = params.platform  # type: ignore[union-attr]
+    info = _info(
+        s,
+        MechanismType.GENERAL,
+        _home_point(mech, pname),
+        platform_body=body,
+        platform_marker=pname,
+        actuators=acts,
+        actuator_joints=tuple(mech.drivers[a].joint for a in acts),
+        home_drives=tuple(float(mech.drivers[a].function(0.0)) for a in acts),
+    )
+    return mech, with_clearances(mech, s), info
+
+
+def _home_point(mech: Mechanism, name: str) -> tuple[float, float, float]:
+    """World position at t = 0 of a body's mass centre or a marker's point."""
+    import numpy as np
+
+    if name in mech.bodies:
+        return tuple(float(x) for x in mech.bodies[name].position)  # type: ignore[return-value]
+    mk = mech.markers[name]
+    if mk.body == "ground":
+        return tuple(float(x) for x in mk.position)  # type: ignore[return-value]
+    b = mech.bodies[mk.body]
+    p = np.array(b.position) + np.asarray(b.rotation) @ np.array(mk.position)
+    return tuple(float(x) for x in p)  # type: ignore[return-value]
+
+
 Builder = Callable[[Scenario, Drives], tuple[Mechanism, Mechanism, BuildInfo]]
 
 # Mechanism type -> builder
@@ -245,6 +288,7 @@ BUILDERS: dict[MechanismType, Builder] = {
     MechanismType.UPS_UPU: _build_ups_upu,
     MechanismType.SPS_CU: _build_sps_cu,
     MechanismType.PARALLEL: _build_parallel,
+    MechanismType.GENERAL: _build_general,
 }
 
 

@@ -29,6 +29,7 @@ _ALLOWED = {
     "count": "expected an integer >= 1",
     "bool": "expected true or false",
     "positive3": "expected a list of 3 finite numbers > 0",
+    "list": "expected a list of distinct names",
 }
 
 
@@ -82,6 +83,13 @@ def check_kind(f: Field, value: object) -> tuple[bool, object, str]:
     if k == "count":
         ok = isinstance(value, int) and not isinstance(value, bool) and value >= 1
         return ok, value, allowed
+    if k == "list":
+        ok = (
+            isinstance(value, list)
+            and all(isinstance(v, str) and v for v in value)
+            and len(set(value)) == len(value)
+        )
+        return ok, tuple(value) if ok else value, allowed
     if k == "positive3":
         ok = (
             isinstance(value, list)

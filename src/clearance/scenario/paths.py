@@ -24,6 +24,13 @@ from collections.abc import Mapping
 
 from clearance.model.contact_laws import law_name
 from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_mean
+from clearance.scenario.general import (
+    FUNCTION_TYPES,
+    GENERAL_KEYS,
+    SECTIONS,
+    element_keys,
+    parse_general,
+)
 from clearance.scenario.parallel import (
     ATTACH_KEYS,
     LEG_KEYS,
@@ -46,6 +53,7 @@ from clearance.scenario.schema import (
     TRAJECTORY_FIELDS,
     MechanismType,
     Scenario,
+    general_kind,
     leg_groups,
     parallel_kind,
     scenario_from_dict,
@@ -121,6 +129,10 @@ def _mechanism_kind(d: Mapping):
         problems = Problems("<paths>")
         pp = parse_parallel(mech, problems, default_name="mechanism")  # type: ignore[arg-type]
         return parallel_kind(pp) if pp is not None else None
+    if mtype == MechanismType.GENERAL.value:
+        problems = Problems("<paths>")
+        gp = parse_general(mech, problems, default_name="mechanism")  # type: ignore[arg-type]
+        return general_kind(gp) if gp is not None else None
     return MECHANISMS.get(MechanismType(mtype))
 
 
@@ -136,16 +148,41 @@ _PARALLEL_TABLES = {
 }
 
 
+def _general_keys(mech: object, keys: list[str]) -> tuple[str, ...] | None:
+    """Keys below [mechanism] of a general mechanism: element names, element fields, the
+    fields of a time-function table."""
+    if not keys or keys[0] not in SECTIONS:
+        return None
+    tables = _get(mech, keys[0])
+    if len(keys) == 1:
+        return tuple(tables) if isinstance(tables, Mapping) else ()
+    t = _get(tables, keys[1])
+    if len(keys) == 2:
+        return element_keys(keys[0], _get(t, "type") if isinstance(t, Mapping) else None)
+    if len(keys) == 3:  # a function field's table
+        fn = _get(_get(t, keys[2]), "type")
+        cls = FUNCTION_TYPES.get(fn) if isinstance(fn, str) else None
+        if cls is None:
+            return ("type",)
+        return ("type", *(f.name for f in dataclasses.fields(cls) if f.init))
+    return None
+
+
 def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
     """Keys the format allows below the table at `keys` of document d (None: a leaf)."""
     kind = _mechanism_kind(d)
-    parallel = _get(_get(d, "mechanism"), "type") == MechanismType.PARALLEL.value
+    mtype = _get(_get(d, "mechanism"), "type")
+    parallel = mtype == MechanismType.PARALLEL.value
+    general = mtype == MechanismType.GENERAL.value
     n = len(keys)
     if n == 0:
         return TOP_KEYS
     head = keys[0]
     if n == 1:
-        mech_keys = MECHANISM_KEYS if parallel else ("type", *(kind.params.spec() if kind else ()))
+        if parallel or general:
+            mech_keys = MECHANISM_KEYS if parallel else GENERAL_KEYS
+        else:
+            mech_keys = ("type", *(kind.params.spec() if kind else ()))
         sections = {
             "scenario": tuple(SCENARIO_FIELDS),
             "trajectory": (*TRAJECTORY_FIELDS, *SHAPE_TABLES),
@@ -157,6 +194,8 @@ def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
         }
         return sections.get(head)
     if head == "mechanism":
+        if general:
+            return _general_keys(_get(d, "mechanism"), keys[1:])
         return _PARALLEL_TABLES.get(tuple(keys[1:])) if parallel else None
     if head == "trajectory" and n >= 2:
         coords = kind.coordinates if kind else ()

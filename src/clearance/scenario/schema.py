@@ -29,6 +29,7 @@ import numpy as np
 
 from clearance.analysis import plausibility as _pl
 from clearance.analysis.cost import LONG_RUN_SECONDS
+from clearance.analysis.ik import ACTUATOR_DRIVERS
 from clearance.integrate.methods import ADAPTIVE, METHODS
 from clearance.io.outputs import ALL as ALL_OUTPUTS
 from clearance.io.outputs import OUTPUTS
@@ -52,6 +53,7 @@ from clearance.model.contact_laws import (
 from clearance.model.errors import ModelError
 from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_mean
 from clearance.scenario.fields import REQUIRED, Field, parse_table, table_at
+from clearance.scenario.general import GeneralParams, parse_general
 from clearance.scenario.parallel import ParallelParams, joint_kinds, parse_parallel
 from clearance.scenario.trajectories import (  # (IK_SPACING: re-exported)
     IK_PER_PERIOD,
@@ -97,6 +99,7 @@ class MechanismType(str, Enum):
     UPS_UPU = "4ups-upu"
     SPS_CU = "4sps-cu"
     PARALLEL = "parallel"  # any parallel mechanism from leg types (clearance.parallel)
+    GENERAL = "general"  # any mechanism, element by element (clearance.scenario.general)
 
 
 class TrajectoryShape(str, Enum):
@@ -207,6 +210,8 @@ TRAJECTORY_FIELDS = {
     ),
     "sequence": Field("text", None, doc="rotation sequence of alpha, beta, gamma"),
     "positions": Field("choices", None, doc="prescribed coordinates", choices=("x", "y", "z")),
+    # type = "general" only: the drivers the inverse kinematics replaces (none: no IK)
+    "actuators": Field("list", None, doc="drivers replaced by the inverse kinematics"),
 }
 PARALLEL_ONLY = ("orientation", "sequence", "positions")
 SHAPE_TABLES = ("amplitude", "periodic", "via_points", "table")  # one per shape
@@ -410,17 +415,51 @@ class ScenarioMeta:
 @dataclass(frozen=True)
 class MechanismSpec:
     type: MechanismType
-    params: ParamSet | ParallelParams
+    params: ParamSet | ParallelParams | GeneralParams
 
     @property
     def kind(self) -> MechanismKind:
         if self.type is MechanismType.PARALLEL:
             return parallel_kind(self.params)  # type: ignore[arg-type]
+        if self.type is MechanismType.GENERAL:
+            return general_kind(self.params)  # type: ignore[arg-type]
         return MECHANISMS[self.type]
 
 
 PARALLEL_POSITIONS = ("x", "y", "z")
 PARALLEL_ANGLES = ("alpha", "beta", "gamma")  # the angles of `trajectory.sequence`, in order
+
+
+_CLEARANCE_KIND_OF = {
+    "Spherical": "spherical",
+    "Revolute": "revolute",
+    "Cylindrical": "cylindrical",
+    "Prismatic": "prismatic",
+    "Universal": "universal",
+}
+
+
+def general_kind(params: GeneralParams) -> MechanismKind:
+    """What a general mechanism offers to its file: each of its S, R, C, P, U joints may get
+    clearance; trajectory coordinates as for a parallel mechanism (of its `platform`)."""
+    m = params.mechanism
+    joints = {
+        n: _CLEARANCE_KIND_OF[type(j).__name__]
+        for n, j in m.joints.items()
+        if type(j).__name__ in _CLEARANCE_KIND_OF
+    }
+    return MechanismKind(
+        params=GeneralParams,  # type: ignore[arg-type]
+        spherical_joints={
+            n: m.markers[m.joints[n].marker_i].body for n, k in joints.items() if k == "spherical"
+        },
+        positions=PARALLEL_POSITIONS,
+        angles=PARALLEL_ANGLES,
+        sequence="xyz",
+        mode="full",
+        description=f"mechanism '{m.name}' ({len(m.bodies)} bodies)",
+        clearance_joints=joints,
+    )
 
 
 def parallel_kind(params: ParallelParams) -> MechanismKind:
@@ -462,6 +501,7 @@ class TrajectorySpec:
     positions: tuple | None = None  # type = "parallel": prescribed x, y, z
     harmonics: dict | None = None  # periodic: coordinate -> ((amplitude, period, phase), ...)
     samples: dict | None = None  # via-points, table: {"t": times, coordinate: values}
+    actuators: tuple | None = None  # type = "general": the drivers the IK replaces
 
     def ik_times(self) -> np.ndarray:
         """Sample times of the inverse kinematics (clearance.scenario.trajectories)."""
@@ -584,9 +624,12 @@ class Scenario:
         sv = self.solver
         adaptive = sv.method in (*ADAPTIVE, "auto")
         tol = f"rtol {sv.rtol:g}, atol {sv.atol:g}" if adaptive else f"h {sv.step:g}"
+        tr = self.trajectory
+        general = self.mechanism.type is MechanismType.GENERAL and not tr.actuators
+        motion = "own drivers" if general else tr.shape.value
         return (
             f"scenario '{self.name}': {self.mechanism.type.value}, {jt}, "
-            f"{self.trajectory.shape.value} {self.trajectory.duration:g} s, {sv.method} {tol}"
+            f"{motion} {tr.duration:g} s, {sv.method} {tol}"
         )
 
 
@@ -800,8 +843,9 @@ def _mechanism(
         problems.add("mechanism.type", mtype, allowed)
         return None, None
     mt = MechanismType(mtype)
-    if mt is MechanismType.PARALLEL:
-        pp = parse_parallel(t, problems, default_name=default_name)
+    if mt in (MechanismType.PARALLEL, MechanismType.GENERAL):
+        parse = parse_parallel if mt is MechanismType.PARALLEL else parse_general
+        pp = parse(t, problems, default_name=default_name)
         if pp is None:
             return None, None
         ms = MechanismSpec(mt, pp)
@@ -826,35 +870,63 @@ def _mechanism(
 
 
 def _pose_fields(
-    kw: dict, mech: MechanismSpec | None, parallel: bool, problems: Problems
-) -> tuple[str | None, str | None, tuple | None]:
-    """(orientation, sequence, positions) of a parallel mechanism's trajectory, checked
-    against its platform DOF; None for the seed types (which fix them)."""
-    given = [k for k in PARALLEL_ONLY if kw.get(k) is not None]
-    if not parallel:
-        for k in given:
-            problems.add(f"trajectory.{k}", kw[k], "only for mechanism.type = 'parallel'")
-        return None, None, None
-    if mech is None:  # (the [mechanism] has problems: they are reported)
-        return None, None, None
+    kw: dict, mech: MechanismSpec | None, mtype: str | None, problems: Problems
+) -> tuple[str | None, str | None, tuple | None, tuple | None]:
+    """(orientation, sequence, positions, actuators) of the trajectory of a parallel or a
+    general mechanism, checked against the platform DOF (the number of actuators of a
+    general one); Nones for the seed types (which fix them) and for a general mechanism
+    without actuators (its drivers run as given: no inverse kinematics)."""
+    given = [k for k in (*PARALLEL_ONLY, "actuators") if kw.get(k) is not None]
+    pose_types = (MechanismType.PARALLEL.value, MechanismType.GENERAL.value)
+    for k in given:
+        if mtype not in pose_types or (k == "actuators" and mtype != "general"):
+            allowed = "'general'" if k == "actuators" else "'parallel' or 'general'"
+            problems.add(f"trajectory.{k}", kw[k], f"only for mechanism.type = {allowed}")
+    if mtype not in pose_types or mech is None:  # (a bad [mechanism]: reported there)
+        return None, None, None, None
+    actuators = None
+    if mtype == MechanismType.GENERAL.value:
+        m = mech.params.mechanism  # type: ignore[union-attr]
+        if not kw.get("actuators"):
+            for k in given:
+                problems.add(
+                    f"trajectory.{k}",
+                    kw[k],
+                    "no trajectory.actuators: the drivers of the file run as given (give the "
+                    "drivers that the inverse kinematics replaces to prescribe a motion)",
+                )
+            return None, None, None, None
+        drives = [n for n, d in m.drivers.items() if isinstance(d, ACTUATOR_DRIVERS)]
+        for a in kw["actuators"]:
+            if a not in drives:
+                problems.add(
+                    "trajectory.actuators",
+                    a,
+                    f"not a prismatic or revolute driver of the mechanism;"
+                    f"{did_you_mean(a, drives)} drivers: {', '.join(drives) or '(none)'}",
+                )
+        actuators = tuple(kw["actuators"])
+        dof = len(actuators)
+    else:
+        dof = mech.params.mobility.platform  # type: ignore[union-attr]
     orientation = kw["orientation"] or "full"
     sequence = kw["sequence"] or "xyz"
     if len(sequence) != 3 or any(c not in "xyz" for c in sequence):
         problems.add("trajectory.sequence", sequence, "expected 3 axis letters, e.g. 'xyz'")
     positions = tuple(p for p in "xyz" if p in (kw["positions"] or ("x", "y", "z")))
     n = len(positions) + {"full": 3, "axis": 2, "none": 0}[orientation]
-    mob = mech.params.mobility  # type: ignore[union-attr]
-    if n < mob.platform:  # (more is allowed: the extra ones must follow the mechanism,
-        # e.g. x = y = 0 on a CU column; the inverse kinematics refuses them otherwise)
+    if n < dof:  # (more is allowed: the extra ones must follow the mechanism, e.g.
+        # x = y = 0 on a CU column; the inverse kinematics refuses them otherwise)
+        what = "platform has" if actuators is None else "trajectory.actuators drive"
         problems.add(
             "trajectory.positions" if "positions" in given else "trajectory.orientation",
             list(positions) if "positions" in given else orientation,
             f"the trajectory prescribes {n} coordinates ({', '.join(positions) or 'no position'}"
-            f"; orientation '{orientation}'), the platform has {mob.platform} DOF: prescribe "
-            f"at least {mob.platform} (positions = [...]; orientation 'full' 3, 'axis' 2 "
-            "(the normal), 'none' 0)",
+            f"; orientation '{orientation}'), the {what} {dof} DOF: prescribe at least "
+            f"{dof} (positions = [...]; orientation 'full' 3, 'axis' 2 (the normal), "
+            "'none' 0)",
         )
-    return orientation, sequence, positions
+    return orientation, sequence, positions, actuators
 
 
 def _trajectory(
@@ -862,12 +934,12 @@ def _trajectory(
     kind: MechanismKind | None,
     problems: Problems,
     mech: MechanismSpec | None = None,
-    parallel: bool = False,
+    mtype: str | None = None,
     base_dir: Path | None = None,
 ) -> TrajectorySpec | None:
     n0 = len(problems)
     kw = parse_table(t, TRAJECTORY_FIELDS, "trajectory", problems, extra=SHAPE_TABLES)
-    orientation, sequence, positions = _pose_fields(kw, mech, parallel, problems)
+    orientation, sequence, positions, actuators = _pose_fields(kw, mech, mtype, problems)
     shape = kw.get("shape")
     own = {"periodic": "periodic", "via-points": "via_points", "table": "table"}.get(
         shape, "amplitude"
@@ -928,6 +1000,8 @@ def _trajectory(
         free.append(PARALLEL_ANGLES[2])  # (a last turn about z leaves the normal R e_z)
     moved = {**{c: a for c, a in amp.items() if a != 0.0}, **(harmonics or {})}
     moved.update({c: v for c, v in (samples or {}).items() if c != "t"})
+    if mtype == MechanismType.GENERAL.value and actuators is None:
+        free = list(units)  # (no inverse kinematics: nothing follows a motion)
     for c in free:
         if c in moved and any(x != 0.0 for x in np.ravel(moved[c])):
             problems.add(
@@ -946,6 +1020,7 @@ def _trajectory(
         positions,
         harmonics,
         samples,
+        actuators,
     )
     n, scale = ik_times(spec).size, spec.time_scale
     if samples is not None:  # (the rows and via points themselves: long runs at 0.02 s are
@@ -1057,7 +1132,7 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
     if (t := _section(d, "trajectory", problems)) is not None:
         mtype = d["mechanism"].get("type") if isinstance(d.get("mechanism"), dict) else None
         base_dir = _base_dir(source)
-        traj = _trajectory(t, kind, problems, mech, mtype == MechanismType.PARALLEL.value, base_dir)
+        traj = _trajectory(t, kind, problems, mech, mtype, base_dir)
     if (t := _section(d, "clearance", problems)) is not None:
         clr = _clearance(t, kind, mech.params if mech is not None else None, problems)
     if (t := _section(d, "solver", problems)) is not None:

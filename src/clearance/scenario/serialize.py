@@ -9,6 +9,7 @@ import dataclasses
 from enum import Enum
 
 from clearance.model.contact_laws import FrictionContactLaw, NormalContactLaw, law_to_dict
+from clearance.scenario.general import GeneralParams
 from clearance.scenario.parallel import ParallelParams
 from clearance.scenario.schema import AUTO, CLEARANCE_KINDS, Scenario
 
@@ -65,7 +66,7 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
         return {f.name: _plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}  # type: ignore[arg-type]
 
     params = s.mechanism.params
-    if isinstance(params, ParallelParams):
+    if isinstance(params, (ParallelParams, GeneralParams)):
         mechanism = {"type": s.mechanism.type.value, **params.to_dict()}
     else:
         mechanism = {"type": s.mechanism.type.value, **fields_of(params)}
@@ -85,7 +86,7 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
         trajectory[key] = {c: list(v) for c, v in tr.samples.items()}
     else:
         trajectory["amplitude"] = dict(tr.amplitude)
-    for key in ("orientation", "sequence", "positions"):  # (type "parallel" only)
+    for key in ("orientation", "sequence", "positions", "actuators"):  # (parallel, general)
         if getattr(tr, key) is not None:
             trajectory[key] = _plain(getattr(tr, key))
     kinds = s.mechanism.kind.clearance_joints
