@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_parallel_dynamics import _platform_motion, oracle, oracle_spec
+from test_parallel_dynamics import _platform_motion, oracle, oracle_spec, tsai_stewart
 
 import clearance as cl
 from clearance.analysis.ik import drives_from_ik, inverse_kinematics
@@ -125,32 +125,6 @@ def _rod(m: float, jt: float, com: float, length: float, ja: float = 1e-5) -> cl
     return cl.Link(m, (jt, jt, ja), com=com, length=length)
 
 
-def python_stewart() -> cl.ParallelMechanism:
-    part = cl.Link(0.1, (0.00625, 0.00625, 0.00625), com=0.5)
-    base = [
-        (-2.12, 1.374, 0.0),
-        (-2.38, 1.224, 0.0),
-        (-2.38, -1.224, 0.0),
-        (-2.12, -1.374, 0.0),
-        (0.0, -0.15, 0.0),
-        (0.0, 0.15, 0.0),
-    ]
-    plat = [
-        (0.17, 0.595, -0.4),
-        (-0.6, 0.15, -0.4),
-        (-0.6, -0.15, -0.4),
-        (0.17, -0.595, -0.4),
-        (0.43, -0.445, -0.4),
-        (0.43, 0.445, -0.4),
-    ]
-    return cl.ParallelMechanism(
-        "stewart",
-        cl.Platform(1.5, (0.08, 0.08, 0.08), position=(-1.5, 0.0, 1.0)),
-        cl.legs("UPS", base=base, platform=plat, links=(part, part)),
-        gravity=(0.0, 0.0, -9.80665),
-    )
-
-
 def python_delta() -> cl.ParallelMechanism:
     ang = [-90.0, 30.0, 150.0]
     return cl.ParallelMechanism(
@@ -207,7 +181,7 @@ def python_pss_upu5() -> cl.ParallelMechanism:
 
 
 PYTHON = {
-    "stewart": python_stewart,
+    "stewart": tsai_stewart,  # (tests/test_parallel_dynamics.py: Tsai's set, as the file)
     "delta": python_delta,
     "rps3": lambda: python_three("RPS"),
     "prs3": lambda: python_three("PRS"),

@@ -326,3 +326,18 @@ def test_delta_home_angles_against_williams_table(theta, position, tol_deg) -> N
     )
     got = np.degrees(list(pm.home_drives().values()))
     assert np.max(np.abs(got - np.array(theta))) < tol_deg, got
+
+
+def test_the_actuated_joint_marked_in_the_string() -> None:
+    """'_' before a letter marks the actuated joint, as the literature's underline."""
+    a = Leg("U_PS", (1, 0, 0), (0.5, 0, 0.5), (rod(0.3), rod(0.3)))
+    assert a.joints == "UPS" and a.actuated == "P"
+    assert Leg("_RSS", (1, 0, 0), (0.5, 0, 0.5), (rod(0.3), rod(0.5))).actuated == "R"
+    assert Leg("U_PU", (0, 0, 0), (0, 0, 0), (rod(0.3), rod(0.3))).actuated == "P"
+    assert Leg("U_PU", (0, 0, 0), (0, 0, 0), (rod(0.3), rod(0.3)), actuated="P").actuated == "P"
+    with pytest.raises(cl.ModelError, match="actuator drives a P or C"):
+        Leg("UP_S", (1, 0, 0), (0.5, 0, 0.5), (rod(0.3), rod(0.3)))
+    with pytest.raises(cl.ModelError, match="marks the actuated joint once"):
+        Leg("U__PS", (1, 0, 0), (0.5, 0, 0.5), (rod(0.3), rod(0.3)))
+    with pytest.raises(cl.ModelError, match="marks 'P' actuated"):
+        Leg("U_PS", (1, 0, 0), (0.5, 0, 0.5), (rod(0.3), rod(0.3)), actuated=None)

@@ -23,22 +23,15 @@ def _name(cls: str, name: object) -> str:
 
 
 @dataclass(frozen=True)
-class PrismaticDriver:
-    """Relative displacement s(t) along the axis of a prismatic or cylindrical joint.
-
-    phi = h_i . d - s(t), d from the joint's marker point on i to its point on j. The
-    actuator force reported is F_act = -lam: positive when the actuator pushes body j along
-    +h_i (extends the joint).
-    """
+class _JointDriver:
+    """A joint coordinate driven by a time function: one row (the subclasses say which)."""
 
     name: str
     joint: str
     function: TimeFunction
 
-    kind = DriverType.PRISMATIC
-
     def __post_init__(self) -> None:
-        who = _name("PrismaticDriver", self.name)
+        who = _name(type(self).__name__, self.name)
         if not isinstance(self.joint, str) or not self.joint:
             raise ModelError(who, "joint", self.joint, "expected a joint name")
         object.__setattr__(self, "function", as_function(self.function, owner=who))
@@ -46,6 +39,18 @@ class PrismaticDriver:
     @property
     def nrows(self) -> int:
         return 1
+
+
+@dataclass(frozen=True)
+class PrismaticDriver(_JointDriver):
+    """Relative displacement s(t) along the axis of a prismatic or cylindrical joint.
+
+    phi = h_i . d - s(t), d from the joint's marker point on i to its point on j. The
+    actuator force reported is F_act = -lam: positive when the actuator pushes body j along
+    +h_i (extends the joint).
+    """
+
+    kind = DriverType.PRISMATIC
 
 
 @dataclass(frozen=True)
@@ -197,7 +202,7 @@ class OrientationDriver:
 
 
 @dataclass(frozen=True)
-class RevoluteDriver:
+class RevoluteDriver(_JointDriver):
     """Rotation angle theta(t) [rad] of a revolute (or cylindrical) joint: the angle from
     f_i to f_j about h_i (right hand), marker i on the ground (a base-mounted motor: the
     cranks of a Delta robot, an RUS or RSS leg).
@@ -209,21 +214,7 @@ class RevoluteDriver:
     when it drives theta forward.
     """
 
-    name: str
-    joint: str
-    function: TimeFunction
-
     kind = DriverType.REVOLUTE
-
-    def __post_init__(self) -> None:
-        who = _name("RevoluteDriver", self.name)
-        if not isinstance(self.joint, str) or not self.joint:
-            raise ModelError(who, "joint", self.joint, "expected a joint name")
-        object.__setattr__(self, "function", as_function(self.function, owner=who))
-
-    @property
-    def nrows(self) -> int:
-        return 1
 
 
 def zxz_angles(T: object) -> tuple[float, float, float]:

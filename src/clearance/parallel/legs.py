@@ -177,7 +177,8 @@ def joint_names(joints: str) -> list[str]:
 class Leg:
     """One leg: joint string (base to platform), attachment points, links, options.
 
-    joints: e.g. "UPS" (see the module docstring). base: A, world [m]. platform: B,
+    joints: e.g. "UPS" (see the module docstring); "U_PS" marks the actuated joint as the
+    literature's underline does (= actuated "P"). base: A, world [m]. platform: B,
     platform frame [m] (origin = platform mass centre, axes = world at home). links: one
     `Link` per body, base to platform (a parallelogram leg: crank and rod; both rods get
     the rod's link). actuated: the joint driven ("P", "R", ...: a P or C anywhere, or the R
@@ -207,6 +208,7 @@ class Leg:
 
     def __post_init__(self) -> None:
         who = f"Leg '{self.name}'" if self.name else f"Leg {self.joints!r}"
+        self._underline(who)
         shape = leg_shape(self.joints, who)
         if not isinstance(self.name, str):
             raise ModelError(who, "name", self.name, "expected a string")
@@ -281,6 +283,26 @@ class Leg:
         if self.lumped and self.joints != "SPS":
             raise ModelError(who, "lumped", True, "only for SPS legs (physics.md i)")
         object.__setattr__(self, "actuated", self._actuated(who, names, shape))
+
+    def _underline(self, who: str) -> None:
+        """The literature's underlined actuated joint, written '_' before its letter
+        ("U_PS": the P; "_RSS": the R): the string without it, `actuated` set."""
+        j = self.joints
+        if not isinstance(j, str) or "_" not in j:
+            return
+        k = j.find("_")
+        if j.count("_") != 1 or k == len(j) - 1 or j[k + 1] not in LETTERS:
+            raise ModelError(
+                who, "joints", j, "'_' marks the actuated joint once, before its letter: 'U_PS'"
+            )
+        plain = j.replace("_", "")
+        marked = joint_names(plain)[k] if all(c in LETTERS for c in plain) else j[k + 1]
+        if self.actuated not in ("auto", marked):
+            raise ModelError(
+                who, "actuated", self.actuated, f"the joint string marks '{marked}' actuated"
+            )
+        object.__setattr__(self, "joints", plain)
+        object.__setattr__(self, "actuated", marked)
 
     def _actuated(self, who: str, names: list[str], shape: str) -> str | None:
         a = self.actuated

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from clearance.scenario.errors import MISSING, Problems
 
-__all__ = ["REQUIRED", "Field", "check_kind", "parse_table", "table_at"]
+__all__ = ["REQUIRED", "Field", "check_kind", "parse_table", "plain", "table_at"]
 
 REQUIRED = MISSING  # default of a required field
 
@@ -149,3 +149,12 @@ def parse_table(
             else:
                 out[key] = f.default
     return out
+
+
+def plain(d: object) -> object:
+    """A deep copy with tuples as lists (the plain data of a TOML document)."""
+    if isinstance(d, dict):
+        return {k: plain(v) for k, v in d.items()}
+    if isinstance(d, (list, tuple)):
+        return [plain(v) for v in d]
+    return d

@@ -61,6 +61,7 @@ from clearance.model import (
 )
 from clearance.model.functions import Constant, Polynomial, Ramp, Sinusoid, Tabulated
 from clearance.scenario.errors import MISSING, Problems, did_you_mean
+from clearance.scenario.fields import plain
 
 __all__ = [
     "DRIVER_TYPES",
@@ -132,15 +133,7 @@ class GeneralParams:
     platform: str = ""
 
     def to_dict(self) -> dict:
-        return _plain(self.document)
-
-
-def _plain(d: object) -> object:
-    if isinstance(d, dict):
-        return {k: _plain(v) for k, v in d.items()}
-    if isinstance(d, (list, tuple)):
-        return [_plain(v) for v in d]
-    return d
+        return plain(self.document)
 
 
 def element_keys(section: str, type_name: str | None = None) -> tuple[str, ...]:
@@ -294,7 +287,7 @@ def parse_general(t: Mapping, problems: Problems, *, default_name: str) -> Gener
             except ModelError as err:
                 problems.add(f"mechanism.{section}.{ename}.{err.field}", err.value, err.allowed)
                 continue
-            doc[section][ename] = _plain(et)
+            doc[section][ename] = plain(et)
     if not mech.bodies and len(problems) == n0:
         problems.add("mechanism.bodies", MISSING, "a mechanism needs at least one moving body")
     platform = t.get("platform", next(iter(mech.bodies), ""))

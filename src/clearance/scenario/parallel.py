@@ -31,6 +31,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from clearance.model.errors import ModelError
+from clearance.model.mechanism import Mechanism
 from clearance.model.values import check_value
 from clearance.parallel import (
     Attachments,
@@ -42,10 +43,10 @@ from clearance.parallel import (
     legs,
 )
 from clearance.scenario.errors import MISSING, Problems
+from clearance.scenario.fields import plain
 
 __all__ = [
     "ATTACH_KEYS",
-    "CLEARANCE_KIND_OF",
     "LEG_KEYS",
     "LINK_KEYS",
     "MECHANISM_KEYS",
@@ -72,14 +73,6 @@ LEG_KEYS = (
 )
 ATTACH_KEYS = ("radius", "angles_deg", "z", "points")
 LINK_KEYS = ("mass", "inertia", "com", "length")
-# joint letter -> its clearance kind (clearance.scenario.schema.CLEARANCE_KINDS)
-CLEARANCE_KIND_OF = {
-    "S": "spherical",
-    "R": "revolute",
-    "C": "cylindrical",
-    "P": "prismatic",
-    "U": "universal",
-}
 
 
 @dataclass(frozen=True)
@@ -90,17 +83,10 @@ class ParallelParams:
     document: dict
     mechanism: ParallelMechanism = field(compare=False)
     mobility: Mobility | None = field(default=None, compare=False)
+    ideal: Mechanism | None = field(default=None, compare=False)  # built at home
 
     def to_dict(self) -> dict:
-        return _copy(self.document)
-
-
-def _copy(d: object) -> object:
-    if isinstance(d, dict):
-        return {k: _copy(v) for k, v in d.items()}
-    if isinstance(d, (list, tuple)):
-        return [_copy(v) for v in d]
-    return d
+        return plain(self.document)  # type: ignore[return-value]
 
 
 def _unknown(t: Mapping, allowed: tuple[str, ...], path: str, problems: Problems) -> None:
@@ -142,15 +128,7 @@ def _platform(v: object, problems: Problems) -> tuple[Platform | None, dict]:
         doc[k] = _value(kind, t[k], f"{path}.{k}", problems)
     if len(problems) > n0:
         return None, {}
-    return Platform(doc["mass"], doc["inertia"], position=doc["position"]), _plain(doc)
-
-
-def _plain(d: object) -> object:
-    if isinstance(d, dict):
-        return {k: _plain(v) for k, v in d.items()}
-    if isinstance(d, (list, tuple)):
-        return [_plain(v) for v in d]
-    return d
+    return Platform(doc["mass"], doc["inertia"], position=doc["position"]), plain(doc)
 
 
 def _attachments(v: object, path: str, problems: Problems) -> tuple[Attachments | None, dict]:
@@ -171,7 +149,7 @@ def _attachments(v: object, path: str, problems: Problems) -> tuple[Attachments 
         out = [_value("vector3", p, f"{path}.points[{i}]", problems) for i, p in enumerate(pts)]
         if len(problems) > n0:
             return None, {}
-        return Attachments(tuple(out)), {"points": _plain(out)}
+        return Attachments(tuple(out)), {"points": plain(out)}
     for k in ("radius", "angles_deg"):
         if k not in t:
             problems.add(f"{path}.{k}", MISSING, "required: radius and angles_deg, or points")
@@ -264,7 +242,7 @@ def _leg_group(v: object, k: int, problems: Problems) -> tuple[tuple | None, dic
         if key in opts:
             doc[key] = list(opts[key])
     if "axes" in opts:
-        doc["axes"] = {j: _plain(a[0] if len(a) == 1 else a) for j, a in first.axes.items()}
+        doc["axes"] = {j: plain(a[0] if len(a) == 1 else a) for j, a in first.axes.items()}
     for key in ("knee", "parallelogram"):
         if getattr(first, key) is not None:
             doc[key] = getattr(first, key)
@@ -282,7 +260,7 @@ def parse_parallel(t: Mapping, problems: Problems, *, default_name: str) -> Para
         problems.add("mechanism.name", name, "expected a non-empty string")
     doc["name"] = name
     gravity = _value("vector3", t.get("gravity", [0.0, 0.0, -9.81]), "mechanism.gravity", problems)
-    doc["gravity"] = _plain(gravity)
+    doc["gravity"] = plain(gravity)
     dof = t.get("dof")
     if dof is not None:
         if isinstance(dof, bool) or not isinstance(dof, int) or not 1 <= dof <= 6:
@@ -312,11 +290,4 @@ def parse_parallel(t: Mapping, problems: Problems, *, default_name: str) -> Para
     except ModelError as e:
         problems.add(f"mechanism.{e.field}", e.value, e.allowed)
         return None
-    return ParallelParams(doc, pm, mob)
-
-
-def joint_kinds(pm: ParallelMechanism) -> dict[str, str]:
-    """Every joint of the built (ideal) mechanism -> its clearance kind ("leg1.S":
-    "spherical", ...): a lumped limb has no P."""
-    m = pm.build(check=False)
-    return {n: CLEARANCE_KIND_OF[type(j).__name__[0]] for n, j in m.joints.items()}
+    return ParallelParams(doc, pm, mob, pm.build(check=False))

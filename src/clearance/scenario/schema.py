@@ -51,10 +51,11 @@ from clearance.model.contact_laws import (
     NoFriction,
 )
 from clearance.model.errors import ModelError
+from clearance.model.mechanism import Mechanism
 from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_mean
 from clearance.scenario.fields import REQUIRED, Field, parse_table, table_at
 from clearance.scenario.general import GeneralParams, parse_general
-from clearance.scenario.parallel import ParallelParams, joint_kinds, parse_parallel
+from clearance.scenario.parallel import ParallelParams, parse_parallel
 from clearance.scenario.trajectories import (  # (IK_SPACING: re-exported)
     IK_PER_PERIOD,
     IK_SPACING,
@@ -439,45 +440,44 @@ _CLEARANCE_KIND_OF = {
 }
 
 
-def general_kind(params: GeneralParams) -> MechanismKind:
-    """What a general mechanism offers to its file: each of its S, R, C, P, U joints may get
-    clearance; trajectory coordinates as for a parallel mechanism (of its `platform`)."""
-    m = params.mechanism
+def _model_kind(params_cls: type, mech: Mechanism, description: str) -> MechanismKind:
+    """What a mechanism built from a file offers to it: each of its S, R, C, P, U joints
+    may get clearance (its kind by its class; a spherical joint's socket by default on the
+    body of marker i); trajectory coordinates x, y, z [m] and alpha, beta, gamma [rad]
+    (the angles of `trajectory.sequence`)."""
     joints = {
         n: _CLEARANCE_KIND_OF[type(j).__name__]
-        for n, j in m.joints.items()
+        for n, j in mech.joints.items()
         if type(j).__name__ in _CLEARANCE_KIND_OF
     }
     return MechanismKind(
-        params=GeneralParams,  # type: ignore[arg-type]
+        params=params_cls,  # type: ignore[arg-type]
         spherical_joints={
-            n: m.markers[m.joints[n].marker_i].body for n, k in joints.items() if k == "spherical"
+            n: mech.markers[mech.joints[n].marker_i].body
+            for n, k in joints.items()
+            if k == "spherical"
         },
         positions=PARALLEL_POSITIONS,
         angles=PARALLEL_ANGLES,
         sequence="xyz",
         mode="full",
-        description=f"mechanism '{m.name}' ({len(m.bodies)} bodies)",
+        description=description,
         clearance_joints=joints,
     )
+
+
+def general_kind(params: GeneralParams) -> MechanismKind:
+    """A general mechanism's kind (`_model_kind`)."""
+    m = params.mechanism
+    return _model_kind(GeneralParams, m, f"mechanism '{m.name}' ({len(m.bodies)} bodies)")
 
 
 def parallel_kind(params: ParallelParams) -> MechanismKind:
-    """What a parallel mechanism offers to its file: every joint of the built (ideal)
-    mechanism may get clearance (kind by its letter); trajectory coordinates x, y, z
-    [m] and alpha, beta, gamma [rad] (the angles of `trajectory.sequence`)."""
+    """A parallel mechanism's kind (`_model_kind` of its built ideal mechanism: a lumped
+    limb has no P)."""
     pm = params.mechanism
-    joints = joint_kinds(pm)
-    return MechanismKind(
-        params=ParallelParams,  # type: ignore[arg-type]
-        spherical_joints={n: "platform" for n, k in joints.items() if k == "spherical"},
-        positions=PARALLEL_POSITIONS,
-        angles=PARALLEL_ANGLES,
-        sequence="xyz",
-        mode="full",
-        description=f"parallel mechanism '{pm.name}' ({len(pm.legs)} legs)",
-        clearance_joints=joints,
-    )
+    desc = f"parallel mechanism '{pm.name}' ({len(pm.legs)} legs)"
+    return _model_kind(ParallelParams, params.ideal, desc)
 
 
 @dataclass(frozen=True)
