@@ -280,8 +280,8 @@ class ParallelMechanism:
 
     def home_drives(self) -> dict[str, float]:
         """Actuator values at home: leg lengths [m], travels [m] (0), crank angles [rad]."""
-        zero = {a: as_function(1.0) for a in self.actuators}  # (lumped: any length > 0)
-        return {p.actuator[0]: p.actuator[3] for p in self._plans(zero, False) if p.actuator}
+        # (the two-body geometry: its values do not depend on the drives)
+        return {p.actuator[0]: p.actuator[3] for p in self._plans({}, False) if p.actuator}
 
     def _drives(self, drives: Mapping | Sequence | None) -> dict[str, TimeFunction]:
         who = f"ParallelMechanism '{self.name}'"
