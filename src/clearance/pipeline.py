@@ -36,6 +36,7 @@ from clearance.model.clearance import Clearance
 from clearance.model.drivers import OffsetDriver
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
+from clearance.parallel import ParallelMechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
 from clearance.scenario.build import with_clearances
 from clearance.scenario.schema import InitialPlacement, Scenario
@@ -320,28 +321,27 @@ def _with_lumped_actuator_forces(r: Result, s: Scenario) -> Result:
         return r
     params = s.mechanism.params
     pm = getattr(params, "mechanism", None)
-    if pm is not None and not hasattr(pm, "lumped"):  # (a general mechanism: its drivers)
-        return r
-    if pm is not None:  # a parallel mechanism: its lumped legs ("<leg>.limb")
+    if isinstance(pm, ParallelMechanism):  # its lumped legs ("<leg>.limb")
         if not pm.lumped:
             return r
         from clearance.parallel.lumped import limb_actuator_force
 
-        ordered: list = []
+        cols = []  # the drivers in leg order, as pm.actuators
         for leg_name, leg in zip(pm.leg_names, pm.legs, strict=True):
             if leg.actuated is None:
                 continue
             if not leg.lumped:  # a driver row of its own
-                ordered.append(("row", f"{leg_name}.drive"))
+                cols.append(r.actuator_force(f"{leg_name}.drive"))
                 continue
             lo, up = leg.links
-            f = limb_actuator_force(
-                r, f"{leg_name}.limb", f"{leg_name}.S2", lo.mass, up.mass, lo.com, up.com
+            cols.append(
+                limb_actuator_force(
+                    r, f"{leg_name}.limb", f"{leg_name}.S2", lo.mass, up.mass, lo.com, up.com
+                )
             )
-            ordered.append(("lumped", f))
-        # the drivers in leg order, as pm.actuators
-        cols = [r.actuator_force(x) if kind == "row" else x for kind, x in ordered]
         return replace(r, driver_force=np.column_stack(cols), driver_names=pm.actuators)
+    if pm is not None:  # (a general mechanism: its drivers are its rows)
+        return r
     limbs = [b for b in r.compiled.body_names if b.startswith("limb_")]
     if r.driver_names or not limbs:
         return r

@@ -81,6 +81,7 @@ from clearance.model import (
 )
 from clearance.model.bodies import InertiaVariation
 from clearance.model.functions import Scaled, as_function
+from clearance.parallel.legs import horizontal_frame
 from clearance.parallel.lumped import limb_actuator_force
 
 __all__ = [
@@ -259,15 +260,6 @@ def _lengths(
     return fns
 
 
-def _limb_frame(u: np.ndarray) -> np.ndarray:
-    """Rotation body -> world of a limb: body z = u, body x = e_z x u normalised."""
-    x = np.cross([0.0, 0.0, 1.0], u)
-    if np.linalg.norm(x) < 1e-9:  # vertical limb: any horizontal x
-        x = np.array([1.0, 0.0, 0.0])
-    x = x / np.linalg.norm(x)
-    return np.column_stack([x, np.cross(u, x), u])
-
-
 def sps_cu(
     params: SpsCuParams | Mapping[str, object] | None = None,
     *,
@@ -320,7 +312,7 @@ def sps_cu(
         l0 = fns[k](0.0)
         a_w, b_w = A[k], C + B[k]  # world points at home
         u = (b_w - a_w) / np.linalg.norm(b_w - a_w)
-        R = _limb_frame(u)
+        R = horizontal_frame(u)
         mech.add(
             Marker(f"A{n}_ground", GROUND, tuple(a_w)),
             Marker(f"B{n}_platform", "platform", tuple(B[k])),

@@ -63,6 +63,7 @@ from clearance.model import (
     Universal,
 )
 from clearance.model.functions import Sinusoid, as_function
+from clearance.parallel.legs import rod_frame
 
 __all__ = ["UPS_UPU_PARAMS", "UpsUpuParams", "home_leg_lengths", "ups_upu_ideal"]
 
@@ -148,13 +149,6 @@ def home_leg_lengths(
     return tuple(float(np.linalg.norm(C + b - a)) for a, b in zip(A, B, strict=True))
 
 
-def _rod_frame(u: np.ndarray, x_hint: np.ndarray) -> np.ndarray:
-    """Rotation body -> world of a rod: body z along u, body x along x_hint made normal to u."""
-    x = x_hint - (x_hint @ u) * u
-    x /= np.linalg.norm(x)
-    return np.column_stack([x, np.cross(u, x), u])
-
-
 def _default_drives(lengths: Sequence[float]) -> list[TimeFunction]:
     """Smooth leg-length drives: l_k(t) = l_k(0) + a_k (sin(pi t + ph_k) - sin ph_k).
 
@@ -219,7 +213,7 @@ def ups_upu_ideal(
         if k < 4:
             th = math.radians(par.theta_deg[k])
             t_ax = np.array([-math.sin(th), math.cos(th), 0.0])  # tangential U axis
-            R = _rod_frame(u, t_ax)  # body x = t_k projected, body z = u
+            R = rod_frame(u, t_ax)  # body x = t_k projected, body z = u
             u_ground, u_swing = t_ax, np.cross(u, t_ax) / np.linalg.norm(np.cross(u, t_ax))
         else:
             R = eye.copy()  # leg 5 is vertical at home: rod frames = world

@@ -76,7 +76,9 @@ __all__ = [
     "LegPlan",
     "Link",
     "leg_shape",
+    "horizontal_frame",
     "plan_leg",
+    "rod_frame",
 ]
 
 LETTERS = {"R": Revolute, "P": Prismatic, "C": Cylindrical, "U": Universal, "S": Spherical}
@@ -336,26 +338,18 @@ class Leg:
             return names
         return [names[0], names[1] + "a", names[2] + "a", names[1] + "b", names[2] + "b"]
 
-    @property
-    def link_names(self) -> tuple[str, ...]:
-        if self.lumped:
-            return ("limb",)
-        if self.parallelogram is not None:
-            return ("crank", "rod_a", "rod_b")
-        return LINK_ROLES[self.shape]
-
 
 # --------------------------------------------------------------------------- geometry
 
 
-def _frame_hint(z: np.ndarray, hint: np.ndarray) -> np.ndarray:
+def rod_frame(z: np.ndarray, hint: np.ndarray) -> np.ndarray:
     """Rotation body -> world: z, x = hint made normal to z (the 4UPS-UPU rod frame)."""
     x = hint - (hint @ z) * z
     x /= np.linalg.norm(x)
     return np.column_stack([x, np.cross(z, x), z])
 
 
-def _frame_horizontal(z: np.ndarray) -> np.ndarray:
+def horizontal_frame(z: np.ndarray) -> np.ndarray:
     """Rotation body -> world: z, x = e_z x z normalised, e_x if z is vertical (the 4-SPS/CU
     limb frame)."""
     x = np.cross([0.0, 0.0, 1.0], z)
@@ -376,13 +370,11 @@ def _cross_unit(a: np.ndarray, b: np.ndarray, who: str, what: str) -> np.ndarray
 @dataclass
 class LegPlan:
     """The model elements of one leg (bodies, markers, joints in order) and its actuator:
-    driver name, joint name, kind ("prismatic" or "revolute") and value at home."""
+    driver name, joint name (None: a lumped limb, no driver row), kind ("prismatic",
+    "revolute" or "lumped") and value at home."""
 
     elements: list
     actuator: tuple | None
-    bodies: tuple[str, ...]
-    joints: tuple[str, ...]
-    sliding_limb: tuple | None = None  # lumped: (body, m1, m2, a1, a2)
 
 
 class _Emit:
@@ -401,6 +393,22 @@ class _Emit:
     def axes(self, jname: str, default: tuple) -> tuple:
         given = self.leg.axes.get(jname)
         return tuple(np.array(a) for a in given) if given is not None else default
+
+    def lower_axes(self, jname: str, z: np.ndarray) -> tuple:
+        """Axes of a joint below a link of axis z (at the base, at the knee): R t; U t on
+        the body below, z x t on the link (unless `Leg.axes` gives them)."""
+        t = self.t
+        return self.axes(
+            jname, (t, _cross_unit(z, t, self.who, jname)) if jname[0] == "U" else (t,)
+        )
+
+    def upper_axes(self, jname: str, z: np.ndarray) -> tuple:
+        """Axes of the platform joint above a link of axis z: R t; U z x t on the link, t
+        on the platform (parallel to a U-P-U's base U)."""
+        t = self.t
+        return self.axes(
+            jname, (_cross_unit(z, t, self.who, jname), t) if jname[0] == "U" else (t,)
+        )
 
     def joint(self, jname: str, bi: str, pi, Ri, bj: str, pj, Rj, axes: tuple) -> None:
         """Markers i (on bi at body point pi, frame Ri) and j, then the joint. axes: world
@@ -441,22 +449,13 @@ def plan_leg(
     names = joint_names(leg.joints)
     build = {"axial": _axial, "rail": _rail, "crank": _crank, "link": _link}[shape]
     actuator_value = build(em, leg, names, A, B, Bw, drive, lumped and leg.lumped)
-    bodies = tuple(e.name for e in em.out if isinstance(e, Body))
-    joints = tuple(e.name for e in em.out if isinstance(e, LETTERS_TUPLE))
     act = None
     if leg.actuated is not None and not (lumped and leg.lumped):
         kind = "revolute" if leg.actuated[0] == "R" else "prismatic"
         act = (f"{name}.drive", f"{name}.{leg.actuated}", kind, actuator_value)
     elif leg.actuated is not None:  # lumped: the length is in the geometry, no driver row
         act = (f"{name}.drive", None, "lumped", actuator_value)
-    plan = LegPlan(em.out, act, bodies, joints)
-    if lumped and leg.lumped:
-        lo, up = leg.links
-        plan.sliding_limb = (f"{name}.limb", lo.mass, up.mass, lo.com, up.com)
-    return plan
-
-
-LETTERS_TUPLE = tuple(LETTERS.values())
+    return LegPlan(em.out, act)
 
 
 def _axial(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
@@ -468,12 +467,11 @@ def _axial(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
     if leg.joints[0] in "RU":
         if abs(float(t @ u)) > 1 - 1e-9:
             raise ModelError(em.who, "axis", tuple(t), "the reference axis is along the leg")
-        R = _frame_hint(u, t)
+        R = rod_frame(u, t)
     else:
-        R = _frame_horizontal(u)
+        R = horizontal_frame(u)
     lo, up = leg.links
-    a_x = em.axes(x, (t, _cross_unit(u, t, em.who, x)) if leg.joints[0] == "U" else (t,))
-    a_y = em.axes(y, (_cross_unit(u, t, em.who, y), t) if leg.joints[2] == "U" else (t,))
+    a_x, a_y = em.lower_axes(x, u), em.upper_axes(y, u)
     if lumped:  # physics.md i: one body, the S points slide with the length l(t)
         m1, m2, a1, a2 = lo.mass, up.mass, lo.com, up.com
         mt = m1 + m2
@@ -548,17 +546,15 @@ def _rail(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
     s0 = along - root if (leg.knee or "down") == "down" else along + root
     C = A + s0 * d
     r = (Bw - C) / np.linalg.norm(Bw - C)
-    Rs, Rr = _frame_horizontal(d), _frame_horizontal(r)
+    Rs, Rr = horizontal_frame(d), horizontal_frame(r)
     if abs(float(t @ r)) > 1 - 1e-9 and x[0] in "RU":
         raise ModelError(em.who, "axis", tuple(t), "the reference axis is along the rod")
     slider, rb = f"{p}.slider", f"{p}.rod"
     em.out += [_body(slider, sl, C - sl.com * d, Rs), _body(rb, rod, C + rod.com * r, Rr)]
     # the carriage's marker at its point that lies at A at home: the value is the travel
     em.joint(d0, GROUND, A, None, slider, (0.0, 0.0, sl.com - s0), Rs, (d,))
-    a_x = em.axes(x, (t, _cross_unit(r, t, em.who, x)) if x[0] == "U" else (t,))
-    em.joint(x, slider, (0.0, 0.0, sl.com), Rs, rb, (0.0, 0.0, -rod.com), Rr, a_x)
-    a_y = em.axes(y, (_cross_unit(r, t, em.who, y), t) if y[0] == "U" else (t,))
-    _top(em, y, rb, (0.0, 0.0, L - rod.com), Rr, B, a_y)
+    em.joint(x, slider, (0.0, 0.0, sl.com), Rs, rb, (0.0, 0.0, -rod.com), Rr, em.lower_axes(x, r))
+    _top(em, y, rb, (0.0, 0.0, L - rod.com), Rr, B, em.upper_axes(y, r))
     return 0.0
 
 
@@ -566,7 +562,7 @@ def _crank(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
     """R-X-Y: a crank about t through A, a rod (or a parallelogram of two) to B."""
     p = em.p
     r0, x, y = names
-    t = em.axes(r0, (em.t,))[0]
+    t = em.t = em.axes(r0, (em.t,))[0]  # (the R's axis: the leg's reference from here)
     e1 = np.cross(t, E_Z)
     if np.linalg.norm(e1) < 1e-9:  # vertical crank axis: angle from e_x
         e1 = np.array([1.0, 0.0, 0.0]) - t[0] * t
@@ -593,7 +589,7 @@ def _crank(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
     phi = math.atan2(math.sin(cands[k]), math.cos(cands[k]))
     cdir = math.cos(phi) * e1 + math.sin(phi) * e2
     C = A + a * cdir
-    Rc = _frame_hint(cdir, t)
+    Rc = rod_frame(cdir, t)
     crank = f"{p}.crank"
     em.out.append(_body(crank, cr, A + cr.com * cdir, Rc))
     mi, mj = f"{p}.{r0}.i", f"{p}.{r0}.j"
@@ -607,10 +603,9 @@ def _crank(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
     for tag, off in sides:
         Ck, Bk, Bp = C + off * t, Bw + off * t, B + off * t
         r = (Bk - Ck) / np.linalg.norm(Bk - Ck)
-        Rr = _frame_hint(r, t)
+        Rr = rod_frame(r, t)
         rb = f"{p}.rod{'_' + tag if tag else ''}"
         em.out.append(_body(rb, rod, Ck + rod.com * r, Rr))
-        a_x = em.axes(x, (t, _cross_unit(r, t, em.who, x)) if x[0] == "U" else (t,))
         em.joint(
             x + tag,
             crank,
@@ -619,10 +614,9 @@ def _crank(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
             rb,
             (0.0, 0.0, -rod.com),
             Rr,
-            a_x,
+            em.lower_axes(x, r),
         )
-        a_y = em.axes(y, (_cross_unit(r, t, em.who, y), t) if y[0] == "U" else (t,))
-        _top(em, y + tag, rb, (0.0, 0.0, b - rod.com), Rr, Bp, a_y)
+        _top(em, y + tag, rb, (0.0, 0.0, b - rod.com), Rr, Bp, em.upper_axes(y, r))
     return phi
 
 
@@ -635,7 +629,7 @@ def _link(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
     if leg.joints[0] in SLIDING:
         d = np.array(leg.rail) if leg.rail is not None else (Bw - A) / np.linalg.norm(Bw - A)
         d = em.axes(x, (d,))[0]
-        R = _frame_horizontal(d)
+        R = horizontal_frame(d)
         em.out.append(_body(link, lk, Bw - lk.com * d, R))
         w = Bw - A
         if float(np.linalg.norm(np.cross(w, d))) <= 1e-12 * float(np.linalg.norm(w)):
@@ -646,15 +640,13 @@ def _link(em: _Emit, leg: Leg, names, A, B, Bw, drive, lumped: bool) -> float:
         z = d
     else:
         z = (Bw - A) / np.linalg.norm(Bw - A)
-        R = _frame_hint(z, t) if leg.joints[0] in "RU" else _frame_horizontal(z)
+        R = rod_frame(z, t) if leg.joints[0] in "RU" else horizontal_frame(z)
         em.out.append(_body(link, lk, A + lk.com * z, R))
-        a_x = em.axes(x, (t, _cross_unit(z, t, em.who, x)) if x[0] == "U" else (t,))
-        em.joint(x, GROUND, A, None, link, (0.0, 0.0, -lk.com), R, a_x)
+        em.joint(x, GROUND, A, None, link, (0.0, 0.0, -lk.com), R, em.lower_axes(x, z))
     top = (
         (0.0, 0.0, lk.com)
         if leg.joints[0] in SLIDING
         else (0.0, 0.0, float(np.linalg.norm(Bw - A)) - lk.com)
     )
-    a_y = em.axes(y, (_cross_unit(z, t, em.who, y), t) if y[0] == "U" else (t,))
-    _top(em, y, link, top, R, B, a_y)
+    _top(em, y, link, top, R, B, em.upper_axes(y, z))
     return 0.0

@@ -222,7 +222,7 @@ def _build_parallel(s: Scenario, drives: Drives) -> tuple[Mechanism, Mechanism, 
     """Any parallel mechanism from leg types (clearance.parallel); lumped limbs run their
     inverse kinematics on the two-body model (`info.ik_mechanism`)."""
     pm = s.mechanism.params.mechanism  # type: ignore[union-attr]
-    fns = _drive_list(drives, pm.actuators, s.source)
+    fns = _drive_list(drives, pm.actuators, s.source)  # (a mapping: checked, in order)
     ideal = pm.build(fns, check=False, name=f"{s.name} (ideal)")
     info = _info(
         s,

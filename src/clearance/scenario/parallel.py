@@ -250,8 +250,11 @@ def _leg_group(v: object, k: int, problems: Problems) -> tuple[tuple | None, dic
     return group, doc
 
 
-def parse_parallel(t: Mapping, problems: Problems, *, default_name: str) -> ParallelParams | None:
-    """The [mechanism] table of type "parallel" (validated, mobility checked)."""
+def parse_parallel(
+    t: Mapping, problems: Problems, *, default_name: str, mobility: bool = True
+) -> ParallelParams | None:
+    """The [mechanism] table of type "parallel" (validated; its mobility checked unless
+    `mobility` is False: the names and kinds of its joints are all a path check needs)."""
     _unknown(t, MECHANISM_KEYS, "mechanism", problems)
     n0 = len(problems)
     doc: dict = {}
@@ -286,7 +289,7 @@ def parse_parallel(t: Mapping, problems: Problems, *, default_name: str) -> Para
         return None
     try:
         pm = ParallelMechanism(name, platform, tuple(groups), gravity=gravity, dof=dof)
-        mob = pm.check_mobility()
+        mob = pm.check_mobility() if mobility else None
     except ModelError as e:
         problems.add(f"mechanism.{e.field}", e.value, e.allowed)
         return None

@@ -127,7 +127,7 @@ def _mechanism_kind(d: Mapping):
         return None
     if mtype == MechanismType.PARALLEL.value:
         problems = Problems("<paths>")
-        pp = parse_parallel(mech, problems, default_name="mechanism")  # type: ignore[arg-type]
+        pp = parse_parallel(mech, problems, default_name="mechanism", mobility=False)  # type: ignore[arg-type]
         return parallel_kind(pp) if pp is not None else None
     if mtype == MechanismType.GENERAL.value:
         problems = Problems("<paths>")
@@ -168,9 +168,12 @@ def _general_keys(mech: object, keys: list[str]) -> tuple[str, ...] | None:
     return None
 
 
-def allowed_keys(d: Mapping, keys: list[str]) -> tuple[str, ...] | None:
-    """Keys the format allows below the table at `keys` of document d (None: a leaf)."""
-    kind = _mechanism_kind(d)
+def allowed_keys(d: Mapping, keys: list[str], *, kind: object = MISSING) -> tuple[str, ...] | None:
+    """Keys the format allows below the table at `keys` of document d (None: a leaf).
+    kind: d's MechanismKind when the caller has it (else derived from d: for a parallel
+    or general mechanism a validation of its [mechanism], ~40 ms)."""
+    if kind is MISSING:
+        kind = _mechanism_kind(d)
     mtype = _get(_get(d, "mechanism"), "type")
     parallel = mtype == MechanismType.PARALLEL.value
     general = mtype == MechanismType.GENERAL.value
@@ -244,16 +247,16 @@ def _joint_table(d: Mapping, name: str) -> object:
     return t
 
 
-def _check(
-    d: Mapping, parts: list[str | int], path: str, source: str, value: object = MISSING
-) -> None:
+def _check(d: Mapping, parts: list[str | int], path: str, source: str, value: object = MISSING):
     """Raise ScenarioError unless every name segment of `parts` is allowed by the format.
-    The error names the path, the value to set (or the bad segment) and what is allowed."""
+    The error names the path, the value to set (or the bad segment) and what is allowed.
+    Returns d's MechanismKind (derived once, for every segment)."""
     keys: list[str] = []
+    kind = _mechanism_kind(d)
     for p in parts:
         if isinstance(p, int):
             continue
-        allowed = allowed_keys(d, keys)
+        allowed = allowed_keys(d, keys, kind=kind)
         if allowed is None or p not in allowed:
             where = ".".join(keys) or "the top level"
             if allowed is None:
@@ -265,13 +268,13 @@ def _check(
                 )
             raise ScenarioError(source, path, p if value is MISSING else value, msg)
         keys.append(p)
+    return kind
 
 
-def _radii(d: Mapping, parts: list) -> tuple[str, ...]:
+def _radii(kind, parts: list) -> tuple[str, ...]:
     """The exclusive radius pair of the joint at clearance.joints.<J>.<field>, or ()."""
     if len(parts) not in (4, 5) or parts[:2] != ["clearance", "joints"]:
         return ()
-    kind = _mechanism_kind(d)
     if kind is None:
         return ()
     name = parts[2] if len(parts) == 4 else f"{parts[2]}.{parts[3]}"  # (nested by leg)
@@ -302,8 +305,8 @@ def set_path(d: Mapping, path: str, value: object, *, source: str = "<dict>") ->
     allowed by the format; the value is checked when the result is validated
     (`scenario_from_dict`)."""
     parts = split_path(path, source=source)
-    _check(d, parts, path, source, value)
-    out = copy.deepcopy(dict(d))
+    kind = _check(d, parts, path, source, value)  # (a path below clearance.joints leaves
+    out = copy.deepcopy(dict(d))  # the mechanism, so its kind, as it is)
     node: object = out
     for i, p in enumerate(parts):
         last = i == len(parts) - 1
@@ -319,7 +322,7 @@ def set_path(d: Mapping, path: str, value: object, *, source: str = "<dict>") ->
         assert isinstance(node, dict)
         if last:
             node[p] = value
-            radii = _radii(out, parts)
+            radii = _radii(kind, parts)
             if p in radii:  # clearance.joints.<J>.<one of its radius fields>: drop the other
                 node.pop(radii[1 - radii.index(p)], None)
         else:

@@ -955,8 +955,10 @@ def _trajectory(
         problems.add(f"trajectory.{own}", MISSING, f"required by shape = '{shape}'")
     amp: dict[str, float] = {}
     at = table_at(t.get("amplitude", {}), "trajectory.amplitude", problems)
-    if at is not None and kind is not None:
+    units = {}  # coordinate -> unit
+    if kind is not None:
         units = {**dict.fromkeys(kind.positions, "m"), **dict.fromkeys(kind.angles, "rad")}
+    if at is not None and kind is not None:
         for key, v in at.items():
             path = f"trajectory.amplitude.{key}"
             if key not in units:
@@ -976,7 +978,6 @@ def _trajectory(
     if len(problems) > n0 or kind is None:
         return None
     period = kw["period"] if kw["period"] is not None else kw["duration"]
-    units = {**dict.fromkeys(kind.positions, "m"), **dict.fromkeys(kind.angles, "rad")}
     harmonics = samples = None
     if own == "periodic":
         harmonics = parse_harmonics(t["periodic"], units, period, MAX_AMPLITUDE, problems)

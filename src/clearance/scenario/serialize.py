@@ -6,6 +6,7 @@ become lists, law objects become {law = name, field = value} tables.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from enum import Enum
 
 from clearance.model.contact_laws import FrictionContactLaw, NormalContactLaw, law_to_dict
@@ -13,7 +14,7 @@ from clearance.scenario.general import GeneralParams
 from clearance.scenario.parallel import ParallelParams
 from clearance.scenario.schema import AUTO, CLEARANCE_KINDS, Scenario
 
-__all__ = ["law_dict", "scenario_to_dict"]
+__all__ = ["law_dict", "nest_joints", "scenario_to_dict"]
 
 
 def _plain(v: object) -> object:
@@ -59,6 +60,20 @@ def _joint_dict(j: object, kind: str) -> dict[str, object]:
     return out
 
 
+def nest_joints(tables: Mapping[str, object]) -> dict[str, object]:
+    """{joint name: table} as [clearance.joints] writes it: a parallel mechanism's
+    "leg1.S" nested by leg ([clearance.joints.leg1.S]), so that paths below it
+    (clearance.joints.leg1.S.radial_clearance) find it (`paths.flat_joints` undoes it)."""
+    out: dict[str, object] = {}
+    for n, table in tables.items():
+        if "." in n:
+            leg, sub = n.split(".", 1)
+            out.setdefault(leg, {})[sub] = table  # type: ignore[index]
+        else:
+            out[n] = table
+    return out
+
+
 def scenario_to_dict(s: Scenario) -> dict[str, object]:
     """The complete, canonical dict of a scenario (every default written out)."""
 
@@ -90,14 +105,7 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
         if getattr(tr, key) is not None:
             trajectory[key] = _plain(getattr(tr, key))
     kinds = s.mechanism.kind.clearance_joints
-    joints: dict[str, object] = {}
-    for n, j in s.clearance.joints.items():
-        table = _joint_dict(j, kinds[n])
-        if "." in n:  # a parallel mechanism's "leg1.S": [clearance.joints.leg1.S]
-            leg, sub = n.split(".", 1)
-            joints.setdefault(leg, {})[sub] = table  # type: ignore[index]
-        else:
-            joints[n] = table
+    joints = nest_joints({n: _joint_dict(j, kinds[n]) for n, j in s.clearance.joints.items()})
     return {
         "format_version": s.format_version,
         "scenario": fields_of(s.scenario),

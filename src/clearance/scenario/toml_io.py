@@ -149,10 +149,11 @@ def _table(path: list[str], d: Mapping, out: list[str], groups: int = 0) -> None
     items' own tables inline."""
     inline = len(path) - groups + 1 >= INLINE_DEPTH
     arrays = [(k, v) for k, v in d.items() if _is_array_of_tables(v) and not inline and path]
+    in_arrays = {k for k, _ in arrays}
     scalars = [
         (k, v)
         for k, v in d.items()
-        if (not isinstance(v, Mapping) or inline) and (k, v) not in arrays
+        if (not isinstance(v, Mapping) or inline) and k not in in_arrays
     ]
     tables = [(k, v) for k, v in d.items() if isinstance(v, Mapping) and not inline]
     if path and (scalars or not (tables or arrays)):
@@ -218,7 +219,7 @@ def library() -> dict[str, str]:
 
 def library_path(name: str) -> Path:
     """Path of a library scenario (`library()` lists them)."""
-    names = tuple(library())
+    names = tuple(p.stem for p in sorted(_library_dir().glob("*.toml")))
     if name not in names:
         hint = did_you_mean(name, names)
         raise ScenarioError(

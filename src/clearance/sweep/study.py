@@ -44,7 +44,7 @@ from pathlib import Path
 from clearance.scenario.errors import MISSING, Problems, ScenarioError
 from clearance.scenario.paths import flat_joints, mechanism_kind, set_path, split_path
 from clearance.scenario.schema import scenario_from_dict
-from clearance.scenario.serialize import scenario_to_dict
+from clearance.scenario.serialize import nest_joints, scenario_to_dict
 from clearance.scenario.toml_io import default_scenarios, load_scenario, read_toml
 from clearance.sweep.design import (
     Parameter,
@@ -175,13 +175,10 @@ def _joint_tables(base: Mapping, names: Sequence, template: str | None, source: 
     joints = flat_joints(base)
     out: dict = {}
     for name in names:
-        if name in joints or (template is not None and template in joints):
-            table = joints[name] if name in joints else joints[template]  # type: ignore[index]
-            if "." in name:  # a parallel mechanism's "leg1.S": nested by leg, as the
-                leg, sub = name.split(".", 1)  # scenario dict writes it (paths below it)
-                out.setdefault(leg, {})[sub] = table
-            else:
-                out[name] = table
+        if name in joints:
+            out[name] = joints[name]
+        elif template is not None and template in joints:
+            out[name] = joints[template]
         else:
             raise ScenarioError(
                 source,
@@ -189,7 +186,7 @@ def _joint_tables(base: Mapping, names: Sequence, template: str | None, source: 
                 list(names),
                 f"joint '{name}' is not in the base scenario and no joint_template is set",
             )
-    return out
+    return nest_joints(out)  # (as the scenario dict writes them: paths below them)
 
 
 def case_scenario_dict(
