@@ -32,6 +32,7 @@ LAYERS = [
     {"parallel"},  # the parallel-mechanism builder (legs from joint strings, mobility)
     {"<root>"},  # clearance/__init__.py: the public API (re-exports of the core)
     {"io"},  # files: NetCDF, CSV, MAT
+    {"nonlinear"},  # steady states, Poincare maps, spectra, Lyapunov exponents (on runs, files)
     {"mechanisms"},  # ready-made mechanisms
     {"scenario"},  # scenario files
     {"plot"},
@@ -52,7 +53,17 @@ CORE = {
     "store",
     "integrate",
 }
-NOT_FROM_CORE = {"io", "plot", "sweep", "cli", "scenario", "pipeline", "mechanisms", "parallel"}
+NOT_FROM_CORE = {
+    "io",
+    "plot",
+    "sweep",
+    "cli",
+    "scenario",
+    "pipeline",
+    "mechanisms",
+    "parallel",
+    "nonlinear",
+}
 KERNELS = {"kinematics", "constraints", "contact", "dynamics", "integrate", "compile"}
 
 

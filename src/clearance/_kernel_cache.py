@@ -36,6 +36,7 @@ _NO_KERNELS = (
     "io",
     "mechanisms",
     "model",
+    "nonlinear",
     "parallel",
     "pipeline.py",
     "plot",

@@ -1,0 +1,122 @@
+"""A classification of a steady-state response (period-n, quasi-periodic, chaotic) with the
+evidence behind it: the recurrence of the Poincare points, the 0-1 test, the largest
+Lyapunov exponent and the spectrum's dominant lines relative to the drive frequency."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from clearance.nonlinear.chaos import LyapunovEstimate, zero_one_test
+from clearance.nonlinear.poincare import (
+    default_tolerance,
+    distinct_points,
+    recurrence_period,
+)
+from clearance.nonlinear.spectra import Peak
+
+__all__ = ["Classification", "classify"]
+
+K_CHAOTIC = 0.8  # 0-1 test: K above is chaotic (Gottwald & Melbourne 2009 use ~1 vs ~0)
+K_REGULAR = 0.2
+
+
+@dataclass(frozen=True)
+class Classification:
+    """kind: "period-<n>", "quasi-periodic", "chaotic" or "undetermined"; period: n or
+    None; the evidence: points (Poincare points used), distinct (their number of distinct
+    points at tolerance tol), zero_one (K or None), lyapunov (estimate or None), peaks
+    (dominant spectral lines or ()), drive_frequency [Hz] or None; reasons: one line per
+    piece of evidence, in words."""
+
+    kind: str
+    period: int | None
+    points: int
+    distinct: int
+    tol: float
+    zero_one: float | None = None
+    lyapunov: LyapunovEstimate | None = None
+    peaks: tuple = ()
+    drive_frequency: float | None = None
+    reasons: tuple = field(default=())
+
+    def __str__(self) -> str:
+        return f"{self.kind}: " + "; ".join(self.reasons)
+
+
+def classify(
+    points: object,
+    *,
+    tol: float | None = None,
+    max_period: int = 32,
+    lyapunov: LyapunovEstimate | None = None,
+    peaks: list[Peak] | tuple = (),
+    drive_frequency: float | None = None,
+    zero_one: bool | float | None = True,
+) -> Classification:
+    """Classify a response from its Poincare points (one per drive period, after the
+    transient; (n, d) array over the chosen channels) and optional evidence.
+
+    Rules, in order: the points recur with period n <= max_period within tol (default
+    1e-4 of their largest magnitude) -> "period-n"; else a Lyapunov exponent positive by
+    more than 3 standard errors -> "chaotic"; else the 0-1 test on the first channel
+    (K > 0.8 chaotic, K < 0.2 regular, so "quasi-periodic" when the points do not recur;
+    zero_one: True to run it on >= 100 points, a number to use a K computed elsewhere,
+    None / False to skip) and a Lyapunov exponent within 3 standard errors of 0 ->
+    "quasi-periodic"; else "undetermined". Disagreements between the indicators are
+    stated in the reasons."""
+    P = np.asarray(points, dtype=float)
+    if P.ndim == 1:
+        P = P[:, None]
+    tol = default_tolerance(P) if tol is None else float(tol)
+    n = P.shape[0]
+    period = recurrence_period(P, tol=tol, max_period=max_period)
+    nd = distinct_points(P, tol=tol)
+    reasons = [f"{nd} distinct Poincare point(s) among {n} (tolerance {tol:.3g})"]
+    K = None
+    if zero_one is True and n >= 100:
+        K = zero_one_test(P[:, 0]).K
+    elif isinstance(zero_one, (int, float)) and not isinstance(zero_one, bool):
+        K = float(zero_one)
+    if K is not None:
+        reasons.append(f"0-1 test K = {K:.3f}")
+    lam_pos = lam_zero = False
+    if lyapunov is not None:
+        lam, se = lyapunov.exponent, lyapunov.standard_error
+        lam_pos = lam > 3 * se and lam > 0
+        lam_zero = abs(lam) <= 3 * se
+        reasons.append(f"largest Lyapunov exponent {lam:.4g} +- {se:.2g} 1/s")
+    if peaks:
+        lines = ", ".join(
+            f"{p.frequency:.4g} Hz"
+            + (f" ({p.frequency / drive_frequency:.3g} f_drive)" if drive_frequency else "")
+            for p in peaks[:5]
+        )
+        reasons.append(f"dominant frequencies {lines}")
+    if period is not None:
+        kind = f"period-{period}"
+        reasons[0] = f"the Poincare points repeat every {period} period(s): " + reasons[0]
+        if lam_pos:
+            reasons.append("but the Lyapunov exponent is positive: the orbit may be unstable")
+    elif lam_pos or (lyapunov is None and K is not None and K > K_CHAOTIC):
+        kind = "chaotic"
+        if K is not None and K < K_REGULAR:
+            reasons.append("but the 0-1 test says regular")
+    elif (K is not None and K < K_REGULAR) or lam_zero:
+        kind = "quasi-periodic"
+    else:
+        kind = "undetermined"
+        reasons.append("too few points or conflicting indicators: run longer")
+    return Classification(
+        kind,
+        period,
+        n,
+        nd,
+        tol,
+        K,
+        lyapunov,
+        tuple(peaks),
+        drive_frequency,
+        tuple(reasons),
+    )
