@@ -898,6 +898,9 @@ def run_scenario(
             f"max condition {ik.max_condition:.3g}",
         )
     kw = dict(info.simulate_kwargs)
+    if s.steady_state is not None:  # whole periods: the stroboscopic times are grid points
+        kw.pop("dt_out", None)
+        kw["t_out"] = s.steady_state.t_out()
     import threading
 
     stop = threading.Event()  # Ctrl-C in this thread stops the ideal run's thread too
@@ -1014,6 +1017,7 @@ def run_scenario(
         out,
         attrs={
             **({"ik_min_sigma": ik.min_sigma, "ik_max_condition": ik.max_condition} if ik else {}),
+            **(s.steady_state.attrs() if s.steady_state is not None else {}),
             "plausibility": json.dumps(
                 {k: summary[k]["plausibility"] for k in ("ideal", "clearance")}
             ),

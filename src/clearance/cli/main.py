@@ -400,6 +400,68 @@ def plot(
 
 
 @app.command()
+def analyze(
+    result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
+    channel: list[str] = typer.Option(
+        None,
+        "--channel",
+        help="channel, e.g. 'position[platform,z]', 'eccentricity[S_1,x]' (repeatable; "
+        "default: the platform's z and each clearance joint's eccentricity x, y)",
+    ),
+    group: str = typer.Option("clearance", help="the run in the file: clearance or ideal"),
+    period: float = typer.Option(
+        None, help="drive period [s] (default: the file's [steady_state] period)"
+    ),
+    transient: int = typer.Option(None, help="periods discarded (default: the file's)"),
+    section: str = typer.Option(None, help="Poincare section: the channel that crosses"),
+    section_value: float = typer.Option(0.0, help="the value it crosses"),
+    section_direction: int = typer.Option(1, help="+1 upward, -1 downward, 0 both"),
+    tol: float = typer.Option(1e-3, help="recurrence tolerance, x each channel's range"),
+    out: Path = typer.Option(None, help="output folder (default: next to the result)"),
+    figures: bool = typer.Option(True, "--figures/--no-figures", help="write figures"),
+    fmt: list[str] = typer.Option(["png"], "--format", help="figure format (repeatable)"),
+) -> None:
+    """Nonlinear dynamics of a steady-state run: Poincare map, spectrum, phase portrait,
+    Lyapunov estimate, 0-1 test and the response's classification (a table, figures and
+    RESULT_analysis.nc)."""
+    from clearance.io.dataset import load_results
+    from clearance.model.errors import ModelError
+    from clearance.nonlinear.analyze import analyze as run_analysis
+    from clearance.nonlinear.analyze import save_analysis
+
+    _load(result, load_results)  # clear error for a missing or invalid file
+    sec = (section, section_value, section_direction) if section else None
+    try:
+        a = run_analysis(
+            result,
+            group=group,
+            channels=channel or None,
+            period=period,
+            transient_periods=transient,
+            section=sec,
+            tol=tol,
+        )
+    except ModelError as e:
+        typer.echo(f"error: {result}: {e}", err=True)
+        raise typer.Exit(2) from None
+    folder = out or result.parent
+    typer.echo(f"analysis of {result} ({group}):")
+    rows = a.table()
+    w = max(len(k) for k, _ in rows)
+    for k, v in rows:
+        typer.echo(f"  {k:<{w}s}  {v}")
+    typer.echo(f"  evidence: {'; '.join(a.classification.reasons)}")
+    files = [save_analysis(folder / f"{result.stem}_analysis.nc", a, attrs={"result": str(result)})]
+    if figures:
+        from clearance.plot.nonlinear import analysis_figures
+
+        files += analysis_figures(a, folder, f"{result.stem}_{group}", tuple(fmt))
+    typer.echo("files:")
+    for f in files:
+        typer.echo(f"  {f}")
+
+
+@app.command()
 def export(
     result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
     csv: bool = typer.Option(True, "--csv/--no-csv", help="write CSV tables"),
@@ -476,6 +538,69 @@ def sweep(
     finally:
         signal.signal(signal.SIGTERM, previous)
     if report.failed or not report.complete:
+        raise typer.Exit(1)
+
+
+@app.command()
+def bifurcation(
+    study: Path = typer.Argument(
+        ..., help="one-parameter study file (TOML) of steady-state runs, or its study folder"
+    ),
+    channel: list[str] = typer.Option(
+        None,
+        "--channel",
+        help="channel(s) analysed per case (repeatable; the first is plotted; default: the "
+        "platform's z and each clearance joint's eccentricity x, y)",
+    ),
+    transient: int = typer.Option(None, help="periods discarded (default: the scenario's)"),
+    scheduler: str = typer.Option(None, "--scheduler", help="as `clearance sweep`"),
+    workers: int = typer.Option(None, "--workers", help="local cluster size"),
+    out: Path = typer.Option(None, "--out", help="study folder (default: the study's folder)"),
+    no_run: bool = typer.Option(False, "--collect", help="only draw from finished cases"),
+) -> None:
+    """Bifurcation diagram: run (resumably, on Dask) or collect a one-parameter study of
+    steady-state runs, and plot each case's Poincare points against the parameter.
+
+    Exit status: 0 drawn from every case; 1 some case not finished; 2 invalid study."""
+    import signal
+
+    from clearance.model.errors import ModelError
+    from clearance.scenario import ScenarioError
+    from clearance.sweep.bifurcation import bifurcation as run_bifurcation
+
+    if not study.exists():
+        typer.echo(f"error: {study}: no such study file or folder", err=True)
+        raise typer.Exit(2)
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        o = run_bifurcation(
+            study,
+            run=not no_run and not study.is_dir(),
+            channels=channel or None,
+            transient_periods=transient,
+            scheduler=scheduler,
+            n_workers=workers,
+            progress=typer.echo,
+            folder=out,
+        )
+    except ScenarioError as e:
+        for line in e.lines():
+            typer.echo(line, err=True)
+        raise typer.Exit(2) from None
+    except ModelError as e:
+        typer.echo(f"error: {study}: {e}", err=True)
+        raise typer.Exit(2) from None
+    except KeyboardInterrupt:
+        raise typer.Exit(130) from None
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    typer.echo(f"bifurcation over {o.parameter} ({len(o.values)} cases), {o.channel}:")
+    for v, k, p in zip(o.values, o.kinds, o.points, strict=True):
+        typer.echo(f"  {o.parameter} = {v:<12.6g} {k:<16s} {np.unique(p).size} distinct values")
+    for f in o.files:
+        typer.echo(f"  {f}")
+    if o.missing:
+        typer.echo(f"not finished: {', '.join(o.missing)}", err=True)
         raise typer.Exit(1)
 
 
@@ -579,6 +704,7 @@ def _load(path: Path, loader):
 _FAST_EXIT = {
     "run",
     "plot",
+    "analyze",
     "export",
     "check",
     "describe",

@@ -27,6 +27,7 @@ _ALLOWED = {
     "positive_inf": "expected a number > 0 (inf allowed)",
     "nonneg": "expected a finite number >= 0",
     "count": "expected an integer >= 1",
+    "count0": "expected an integer >= 0",
     "bool": "expected true or false",
     "positive3": "expected a list of 3 finite numbers > 0",
     "list": "expected a list of distinct names",
@@ -80,8 +81,9 @@ def check_kind(f: Field, value: object) -> tuple[bool, object, str]:
         return isinstance(value, str) and bool(value.strip()), value, allowed
     if k == "bool":
         return isinstance(value, bool), value, allowed
-    if k == "count":
-        ok = isinstance(value, int) and not isinstance(value, bool) and value >= 1
+    if k in ("count", "count0"):
+        lo = 1 if k == "count" else 0
+        ok = isinstance(value, int) and not isinstance(value, bool) and value >= lo
         return ok, value, allowed
     if k == "list":
         ok = (

@@ -59,6 +59,7 @@ from clearance.scenario.schema import (
     scenario_from_dict,
 )
 from clearance.scenario.serialize import scenario_to_dict
+from clearance.scenario.steady import STEADY_FIELDS
 from clearance.scenario.trajectories import HARMONIC_KEYS
 
 __all__ = [
@@ -193,6 +194,7 @@ def allowed_keys(d: Mapping, keys: list[str], *, kind: object = MISSING) -> tupl
             "solver": tuple(SOLVER_FIELDS),
             "output": tuple(OUTPUT_FIELDS),
             "checks": tuple(CHECKS_FIELDS),
+            "steady_state": tuple(STEADY_FIELDS),
             "mechanism": mech_keys,
         }
         return sections.get(head)

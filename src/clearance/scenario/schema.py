@@ -56,6 +56,7 @@ from clearance.scenario.errors import MISSING, Problems, ScenarioError, did_you_
 from clearance.scenario.fields import REQUIRED, Field, parse_table, table_at
 from clearance.scenario.general import GeneralParams, parse_general
 from clearance.scenario.parallel import ParallelParams, parse_parallel
+from clearance.scenario.steady import SteadyStateSpec, parse_steady_state
 from clearance.scenario.trajectories import (  # (IK_SPACING: re-exported)
     IK_PER_PERIOD,
     IK_SPACING,
@@ -91,7 +92,16 @@ __all__ = [
 ]
 
 FORMAT_VERSION = 1
-SECTIONS = ("scenario", "mechanism", "trajectory", "clearance", "solver", "output", "checks")
+SECTIONS = (
+    "scenario",
+    "mechanism",
+    "trajectory",
+    "clearance",
+    "solver",
+    "output",
+    "checks",
+    "steady_state",
+)
 TOP_KEYS = ("format_version", *SECTIONS)
 AUTO = "auto"  # in a law table: the field's computed value (None in Python)
 
@@ -610,6 +620,7 @@ class Scenario:
     format_version: int = FORMAT_VERSION
     source: str = field(default="<dict>", compare=False)
     checks: ChecksSpec = field(default_factory=ChecksSpec)
+    steady_state: SteadyStateSpec | None = None  # [steady_state] (clearance.scenario.steady)
 
     @property
     def name(self) -> str:
@@ -1148,5 +1159,22 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
         checks = _checks(t, problems)
     if solver is not None and clr is not None and checks is not None:
         _rk4_with_clearance(solver, clr, step_given, checks.rk4_clearance_step, problems)
+    steady = None
+    if "steady_state" in d and (t := _section(d, "steady_state", problems)) is not None:
+        own = mech is not None and mech.type is MechanismType.GENERAL
+        own = own and traj is not None and not traj.actuators
+        solver_table = d.get("solver") if isinstance(d.get("solver"), dict) else {}
+        steady, solver = parse_steady_state(t, traj, solver, solver_table, own, problems)
     problems.raise_if_any()
-    return Scenario(meta, mech, traj, clr, solver, output, FORMAT_VERSION, source, checks)  # type: ignore[arg-type]
+    return Scenario(
+        meta,  # type: ignore[arg-type]
+        mech,  # type: ignore[arg-type]
+        traj,  # type: ignore[arg-type]
+        clr,  # type: ignore[arg-type]
+        solver,  # type: ignore[arg-type]
+        output,  # type: ignore[arg-type]
+        FORMAT_VERSION,
+        source,
+        checks,  # type: ignore[arg-type]
+        steady,
+    )

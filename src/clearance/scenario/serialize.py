@@ -106,7 +106,7 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
             trajectory[key] = _plain(getattr(tr, key))
     kinds = s.mechanism.kind.clearance_joints
     joints = nest_joints({n: _joint_dict(j, kinds[n]) for n, j in s.clearance.joints.items()})
-    return {
+    doc = {
         "format_version": s.format_version,
         "scenario": fields_of(s.scenario),
         "mechanism": mechanism,
@@ -116,3 +116,8 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
         "output": fields_of(s.output),
         "checks": fields_of(s.checks),
     }
+    if s.steady_state is not None:  # (periods: trajectory.duration / period)
+        st = fields_of(s.steady_state)
+        del st["periods"]
+        doc["steady_state"] = st
+    return doc

@@ -1,0 +1,180 @@
+"""Steady-state scenarios ([steady_state]), `clearance analyze` on their result files and
+`clearance bifurcation` over a one-parameter study on a LocalCluster of 2 workers (short
+runs: the full diagram is `bench/bench_bifurcation.py`)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import tomllib
+import xarray as xr
+from typer.testing import CliRunner
+
+from clearance.cli.main import app
+from clearance.nonlinear.analyze import analyze
+from clearance.scenario import ScenarioError, default_scenario_path, scenario_from_dict
+from clearance.scenario.serialize import scenario_to_dict
+from clearance.scenario.toml_io import dumps_toml
+
+
+def _base() -> dict:
+    d = tomllib.loads(default_scenario_path().read_text())
+    d["trajectory"].update(duration=0.25, period=0.05)  # 5 periods of a 20 Hz drive
+    d["solver"].pop("dt_out")
+    d["steady_state"] = {"transient_periods": 1, "samples_per_period": 40}
+    return d
+
+
+def test_steady_state_section_validation_and_round_trip():
+    s = scenario_from_dict(_base())
+    st = s.steady_state
+    assert (st.period, st.periods, st.transient_periods, st.samples_per_period) == (
+        0.05,
+        5,
+        1,
+        40,
+    )
+    assert s.solver.dt_out == pytest.approx(0.05 / 40, rel=1e-15)
+    t = st.t_out()
+    assert t.size == 201 and t[-1] == 0.25
+    assert np.array_equal(t[st.strobe_indices(t.size)], 0.05 * np.arange(1, 6))  # exact
+    again = scenario_from_dict(scenario_to_dict(s))
+    assert again.steady_state == st and again.solver == s.solver
+    bad = {
+        "steady_state.transient_periods": ({"transient_periods": 5}, "fewer than the run's 5"),
+        "steady_state.period": ({"period": 0.07}, "not periodic with this period"),
+        "steady_state.phase": ({"phase": 1.0}, "[0, 1)"),
+        "steady_state.samples_per_period": ({"samples_per_period": 0}, ">= 1"),
+        "steady_state.periods": ({"periods": 3}, "did you mean"),
+    }
+    for field, (table, allowed) in bad.items():
+        d = _base()
+        d["steady_state"] = table
+        with pytest.raises(ScenarioError) as e:
+            scenario_from_dict(d, source="s.toml")
+        msg = str(e.value)
+        assert f"'{field}'" in msg and allowed in msg and "s.toml" in msg, msg
+    d = _base()
+    d["trajectory"]["duration"] = 0.26
+    with pytest.raises(ScenarioError, match=r"trajectory.duration.*whole number"):
+        scenario_from_dict(d)
+    d = _base()
+    d["solver"]["dt_out"] = 1e-3
+    with pytest.raises(ScenarioError, match=r"solver.dt_out.*conflicts"):
+        scenario_from_dict(d)
+    d = _base()
+    d["trajectory"] = {**d["trajectory"], "shape": "via-points", "period": None}
+    d["trajectory"].pop("period")
+    d["trajectory"].pop("amplitude")
+    d["trajectory"]["via_points"] = {"t": [0.0, 0.25], "z": [0.0, 0.01]}
+    with pytest.raises(ScenarioError, match="needs a periodic drive"):
+        scenario_from_dict(d)
+
+
+@pytest.fixture(scope="module")
+def steady_file(tmp_path_factory):
+    """A steady-state run of the default mechanism written by `clearance run`."""
+    folder = tmp_path_factory.mktemp("steady")
+    d = _base()
+    d["output"] = {**d["output"], "folder": str(folder / "res"), "figures": False}
+    f = folder / "steady.toml"
+    f.write_text(dumps_toml(d))
+    r = CliRunner().invoke(app, ["run", str(f), "--no-figures"])
+    assert r.exit_code == 0, r.output
+    return folder / "res" / "ups_upu.nc", f
+
+
+def test_analyze_command_on_a_steady_state_run(steady_file):
+    nc, _ = steady_file
+    ds = xr.load_dataset(nc, engine="netcdf4", group="clearance")
+    root = xr.load_dataset(nc, engine="netcdf4")
+    assert root.attrs["steady_period"] == 0.05 and root.attrs["steady_transient_periods"] == 1
+    t = ds["time"].values
+    assert np.array_equal(t[::40], 0.05 * np.arange(6))  # the strobe times, exactly
+    runner = CliRunner()
+    r = runner.invoke(app, ["analyze", str(nc), "--section", "eccentricity[S_1,x]"])
+    assert r.exit_code == 0, r.output
+    for what in ("response", "distinct Poincare points", "section crossings", "evidence"):
+        assert what in r.output
+    out = nc.parent / "ups_upu_analysis.nc"
+    a = xr.load_dataset(out, engine="netcdf4", group="analysis")
+    assert a.sizes["point"] == 5 and a.sizes["channel"] == 5
+    assert np.array_equal(a["poincare_time"].values, 0.05 * np.arange(1, 6))
+    z = ds["position"].sel(body="platform", axis="z").values
+    assert np.array_equal(a["poincare"].sel(channel="position[platform,z]").values, z[40::40])
+    assert a.attrs["classification"] in ("period-1", "undetermined", "quasi-periodic", "chaotic")
+    for name in ("phase_portraits", "poincare", "spectra"):
+        assert (nc.parent / f"ups_upu_clearance_{name}.png").stat().st_size > 10_000
+    # the section crossings lie on the section
+    sec = a["section_points"].sel(channel="eccentricity[S_1,x]").values
+    assert sec.size > 0 and np.max(np.abs(sec)) < 1e-3 * np.ptp(
+        ds["eccentricity"].sel(clearance="S_1", axis="x").values
+    )
+
+
+def test_analyze_refuses_what_it_cannot_do(steady_file, tmp_path):
+    nc, _ = steady_file
+    runner = CliRunner()
+    for args, text in (
+        (["--channel", "position[base,z]"], "body 'base' not in"),
+        (["--channel", "oops"], "no time history 'oops'"),
+        (["--transient", "5"], "fewer than 2 periods"),
+        (["--period", "0.0333"], "not a whole multiple of the output interval"),
+    ):
+        r = runner.invoke(app, ["analyze", str(nc), "--no-figures", *args])
+        assert r.exit_code == 2, (args, r.output)
+        assert text in r.output and "Traceback" not in r.output, r.output
+    ds = analyze(nc, period=0.1)  # a whole multiple of the grid: exact samples, 0 transient
+    assert ds.strobe.shape[0] == 3 and ds.steady.source == "option"
+    r = runner.invoke(app, ["analyze", str(tmp_path / "none.nc")])
+    assert r.exit_code == 2 and "no such result file" in r.output
+
+
+def test_bifurcation_over_clearance_on_a_local_cluster(steady_file, tmp_path):
+    """`clearance bifurcation STUDY --workers 2` runs the cases on a LocalCluster, draws the
+    diagram and writes its NetCDF and table; a second call finds every case finished;
+    --collect on the folder draws from the files alone."""
+    _, scenario = steady_file
+    study = tmp_path / "bif.toml"
+    folder = tmp_path / "study"
+    study.write_text(
+        f"""format_version = 1
+[study]
+name = "bif"
+base = "{scenario}"
+folder = "{folder}"
+[set]
+trajectory.duration = 0.2
+[[parameter]]
+name = "radial_clearance"
+path = ["clearance.joints.S_1.radial_clearance", "clearance.joints.S_3.radial_clearance"]
+values = [5e-4, 1e-4, 3e-4]
+"""
+    )
+    runner = CliRunner()
+    r = runner.invoke(app, ["bifurcation", str(study), "--workers", "2"])
+    assert r.exit_code == 0, r.output
+    assert "LocalCluster, 2 workers" in r.output
+    b = xr.load_dataset(
+        folder / "collected" / "bifurcation.nc", engine="netcdf4", group="bifurcation"
+    )
+    assert list(b["radial_clearance"].values) == [1e-4, 3e-4, 5e-4]  # in parameter order
+    assert b["poincare"].shape == (3, 4, 5)  # cases, points (periods 1..4), channels
+    assert (folder / "collected" / "bifurcation.png").stat().st_size > 10_000
+    # each case's points are its own file's stroboscopic samples
+    for cid, c in zip(b["case"].values, b["radial_clearance"].values, strict=True):
+        ds = xr.load_dataset(folder / "cases" / f"{cid}.nc", engine="netcdf4", group="clearance")
+        z = ds["position"].sel(body="platform", axis="z").values[40::40]
+        got = b["poincare"].sel(case=cid, channel="position[platform,z]").values
+        assert np.array_equal(got, z), c
+    r = runner.invoke(app, ["bifurcation", str(study), "--scheduler", "serial"])
+    assert r.exit_code == 0 and "3 already finished" in r.output, r.output
+    r = runner.invoke(app, ["bifurcation", str(folder), "--channel", "eccentricity[S_1,x]"])
+    assert r.exit_code == 0 and "eccentricity[S_1,x]" in r.output, r.output
+    two = study.read_text().replace(
+        "values = [5e-4, 1e-4, 3e-4]",
+        'values = [5e-4, 1e-4]\n[[parameter]]\npath = "solver.rtol"\nvalues = [1e-6]',
+    )
+    study.write_text(two)
+    r = runner.invoke(app, ["bifurcation", str(study)])
+    assert r.exit_code == 2 and "exactly one parameter" in r.output, r.output
