@@ -11,6 +11,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from clearance.cli.main import app
+from clearance.model.errors import ModelError
 from clearance.nonlinear.analyze import analyze
 from clearance.scenario import ScenarioError, default_scenario_path, scenario_from_dict
 from clearance.scenario.serialize import scenario_to_dict
@@ -59,9 +60,10 @@ def test_steady_state_section_validation_and_round_trip():
     with pytest.raises(ScenarioError, match=r"trajectory.duration.*whole number"):
         scenario_from_dict(d)
     d = _base()
-    d["solver"]["dt_out"] = 1e-3
-    with pytest.raises(ScenarioError, match=r"solver.dt_out.*conflicts"):
-        scenario_from_dict(d)
+    d["solver"]["dt_out"] = 1e-3  # samples_per_period replaces it
+    assert scenario_from_dict(d).solver.dt_out == pytest.approx(0.05 / 40, rel=1e-15)
+    d["steady_state"].pop("samples_per_period")  # else dt_out sets it
+    assert scenario_from_dict(d).steady_state.samples_per_period == 50
     d = _base()
     d["trajectory"] = {**d["trajectory"], "shape": "via-points", "period": None}
     d["trajectory"].pop("period")
@@ -178,3 +180,61 @@ values = [5e-4, 1e-4, 3e-4]
     study.write_text(two)
     r = runner.invoke(app, ["bifurcation", str(study)])
     assert r.exit_code == 2 and "exactly one parameter" in r.output, r.output
+
+
+def test_bifurcation_continuation_starts_each_case_from_the_previous_end(steady_file, tmp_path):
+    """--continuation runs the cases in order, each clearance run starting from the previous
+    case's final state (whole periods: the drive's phase matches), not from the centred
+    placement; a state of the wrong layout is refused with a message."""
+    from clearance.io.dataset import load_results
+    from clearance.pipeline import run_scenario
+
+    _, scenario = steady_file
+    study = tmp_path / "cont.toml"
+    folder = tmp_path / "cont"
+    study.write_text(
+        f"""format_version = 1
+[study]
+name = "cont"
+base = "{scenario}"
+folder = "{folder}"
+[set]
+trajectory.duration = 0.1
+[[parameter]]
+path = "clearance.joints.S_1.friction.mu_c"
+values = [0.1, 0.05]
+"""
+    )
+    r = CliRunner().invoke(app, ["bifurcation", str(study), "--continuation"])
+    assert r.exit_code == 0, r.output
+    assert "from the scenario's start" in r.output and "from the previous case's end" in r.output
+    man = {c["values"]["clearance.joints.S_1.friction.mu_c"]: c["id"] for c in _cases(folder)}
+    first = load_results(folder / "cases" / f"{man[0.1]}.nc")
+    second = load_results(folder / "cases" / f"{man[0.05]}.nc")
+    e_end = first["clearance"]["eccentricity"].sel(clearance="S_1").values[-1]
+    e_start = second["clearance"]["eccentricity"].sel(clearance="S_1").values[0]
+    assert np.linalg.norm(e_end) > 1e-5  # (not centred)
+    assert np.max(np.abs(e_start - e_end)) < 1e-9, (e_start, e_end)
+    y = np.asarray(first.attrs["clearance_final_state"])
+    with pytest.raises(ModelError, match=r"y0.*expected \d+ finite numbers"):
+        run_scenario(scenario, out_dir=tmp_path / "x", y0=y[:-1], log=None, figures=False)
+
+
+def _cases(folder):
+    import json
+
+    return json.loads((folder / "study.json").read_text())["cases"]
+
+
+def test_shipped_bifurcation_study_is_valid():
+    from pathlib import Path
+
+    import clearance
+    from clearance.sweep.bifurcation import check_bifurcation_study
+    from clearance.sweep.study import load_study
+
+    s = load_study(Path(clearance.__file__).parent / "data" / "studies" / "bifurcation.toml")
+    assert check_bifurcation_study(s) == "radial_clearance" and len(s.cases) == 10
+    v = sorted(c.values["radial_clearance"] for c in s.cases)
+    assert v[0] == pytest.approx(5e-5) and v[-1] == pytest.approx(5e-4)
+    assert s.base["steady_state"]["transient_periods"] == 20

@@ -36,6 +36,7 @@ from clearance.model.clearance import Clearance
 from clearance.model.drivers import OffsetDriver
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
+from clearance.nonlinear.analyze import Steady, response_of_run
 from clearance.parallel import ParallelMechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
 from clearance.scenario.build import with_clearances
@@ -205,6 +206,12 @@ def format_summary(s: dict) -> str:
             f"{dev['angular_velocity']:.3g} rad/s, angular acceleration "
             f"{dev['angular_acceleration']:.3g} rad/s^2"
         )
+    st = s.get("steady_state")
+    if st:
+        lines.append(
+            f"  steady state ({st['points']} Poincare points after the transient): "
+            f"{st['response']}; {st['evidence']}"
+        )
     for label in ("ideal", "clearance"):
         r = s[label]
         p = r.get("plausibility", {"status": "ok", "findings": []})
@@ -307,6 +314,31 @@ def _start_from(r_ideal: Result, cc: Compiled, ideal: Mechanism, s: Scenario) ->
     assert c0.body_names == cc.body_names
     y0[: cc.nq + cc.nv] = initial_state(c0, assemble_positions=False)[: cc.nq + cc.nv]
     return y0
+
+
+def final_state(r: Result) -> np.ndarray:
+    """The state vector of a run's last sample (positions, velocities, friction states;
+    work integrals 0): a start for `run_scenario(y0=...)`."""
+    c = r.compiled
+    y = np.zeros(c.ny)
+    y[: c.nq] = r.q[-1]
+    y[c.nq : c.nq + c.nv] = r.v[-1]
+    lay = c.layout
+    y[lay.iz : lay.iw] = r.bristle[-1].ravel()
+    return y
+
+
+def _given_start(y0: object, cc: Compiled) -> np.ndarray:
+    y = np.asarray(y0, dtype=float)
+    if y.shape != (cc.ny,) or not np.all(np.isfinite(y)):
+        raise ModelError(
+            "run_scenario",
+            "y0",
+            f"shape {y.shape}",
+            f"expected {cc.ny} finite numbers: a state of the clearance model "
+            "(clearance joints and friction laws as in the run it came from)",
+        )
+    return y.copy()
 
 
 def _with_lumped_actuator_forces(r: Result, s: Scenario) -> Result:
@@ -824,6 +856,7 @@ def run_scenario(
     defer_write: bool = False,
     log: Callable[[str], None] | None = print,
     progress: Callable[[str, float, float], object] | None = None,
+    y0: np.ndarray | None = None,
 ) -> RunOutput:
     """Run a scenario (default: the shipped 4UPS-UPU one) and write its outputs.
 
@@ -838,6 +871,10 @@ def run_scenario(
     log: progress messages (None: silent). progress(run, t, t_end): called during the
     integration, about every 0.1 s of wall time, with run "ideal" or "clearance" and the
     simulated time reached (from both runs' threads).
+    y0: the clearance run's initial state (the clearance model's layout; its positions are
+    assembled at t = 0), e.g. the `final_state` of an earlier run of a periodic drive, to
+    continue a branch (`clearance bifurcation --continuation`); default: the initial
+    placement of [clearance].
     A run that fails part-way keeps and writes what it computed; its status says why.
     Ctrl-C during the integration stops both runs within ~0.1 s, writes what they computed
     (without figures) and raises `RunInterrupted` (a KeyboardInterrupt) carrying it;
@@ -980,12 +1017,16 @@ def run_scenario(
                 f"[4/5] clearance mechanism ({', '.join(info.clearance_joints)}; initial "
                 f"placement {s.clearance.initial.value})",
             )
-            y0 = None
-            if start_ref.t.size:
-                y0 = _start_from(start_ref, cc, ideal, s)
+            y_start = None
+            if y0 is not None:
+                y_start = _given_start(y0, cc)
+            elif start_ref.t.size:
+                y_start = _start_from(start_ref, cc, ideal, s)
                 if s.clearance.initial == InitialPlacement.REACTION:
-                    y0 = place_balls_along_reaction(clr, start_ref, y0, info.clearance_joints)
-            r_clr = watched("clearance", cc, y0=y0)
+                    y_start = place_balls_along_reaction(
+                        clr, start_ref, y_start, info.clearance_joints
+                    )
+            r_clr = watched("clearance", cc, y0=y_start)
     except Interrupted as e:  # Ctrl-C: keep what was computed, stop the ideal run too
         stop.set()
         r_clr, interrupted = e.result, True
@@ -1010,6 +1051,10 @@ def run_scenario(
         summary = summarize(
             r_ideal, r_clr, info.platform_body, thresholds=s.checks.plausibility_kwargs()
         )
+        if s.steady_state is not None and info.platform_body:
+            st = s.steady_state
+            grid = Steady(st.period, st.samples_per_period, st.transient_periods, st.phase)
+            summary["steady_state"] = response_of_run(r_clr, grid, info.platform_body)
     write = functools.partial(
         write_outputs,
         s,
@@ -1018,6 +1063,8 @@ def run_scenario(
         attrs={
             **({"ik_min_sigma": ik.min_sigma, "ik_max_condition": ik.max_condition} if ik else {}),
             **(s.steady_state.attrs() if s.steady_state is not None else {}),
+            **({"clearance_final_state": final_state(r_clr)} if r_clr.t.size else {}),
+            "clearance_final_time": float(r_clr.t[-1]) if r_clr.t.size else 0.0,
             "plausibility": json.dumps(
                 {k: summary[k]["plausibility"] for k in ("ideal", "clearance")}
             ),

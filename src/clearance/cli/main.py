@@ -557,6 +557,12 @@ def bifurcation(
     workers: int = typer.Option(None, "--workers", help="local cluster size"),
     out: Path = typer.Option(None, "--out", help="study folder (default: the study's folder)"),
     no_run: bool = typer.Option(False, "--collect", help="only draw from finished cases"),
+    continuation: bool = typer.Option(
+        False,
+        "--continuation",
+        help="run the cases in the file's order, each from the previous case's final state "
+        "(follows a branch; one after the other, in this process)",
+    ),
 ) -> None:
     """Bifurcation diagram: run (resumably, on Dask) or collect a one-parameter study of
     steady-state runs, and plot each case's Poincare points against the parameter.
@@ -582,6 +588,7 @@ def bifurcation(
             n_workers=workers,
             progress=typer.echo,
             folder=out,
+            continuation=continuation,
         )
     except ScenarioError as e:
         for line in e.lines():

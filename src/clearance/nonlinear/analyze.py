@@ -36,7 +36,15 @@ from clearance.nonlinear.spectra import (
     power_spectral_density,
 )
 
-__all__ = ["Analysis", "Steady", "analyze", "channel", "default_channels", "steady_of"]
+__all__ = [
+    "Analysis",
+    "Steady",
+    "analyze",
+    "channel",
+    "default_channels",
+    "response_of_run",
+    "steady_of",
+]
 
 _RATE_OF = {
     "position": "velocity",
@@ -376,3 +384,29 @@ def save_analysis(path: str | Path, analysis: Analysis, *, attrs: Mapping | None
     from clearance.io.dataset import save_results
 
     return save_results(path, {"analysis": analysis.to_dataset()}, attrs=attrs)
+
+
+def response_of_run(r, steady: Steady, platform: str, *, tol: float = 1e-3) -> dict:
+    """The classification of a run's steady state (a `Result` on a steady grid): the
+    stroboscopic points of the platform's position and of every clearance joint's
+    eccentricity, each coordinate scaled by its range over the steady samples. Returns
+    {"response", "period", "distinct_points", "points", "evidence"} (plain data)."""
+    t = np.asarray(r.t)
+    if t.size < 2:
+        return {}
+    idx = steady.strobe(t.size)
+    if idx.size < 2:
+        return {}
+    cols = [r.position(platform)]
+    cols += [r.eccentricity(name) for name in r.clearance_names]
+    X = np.column_stack(cols)
+    scale = np.ptp(X[idx[0] :], axis=0)
+    scale[scale == 0] = 1.0
+    c = classify(X[idx] / scale, tol=tol, zero_one=True)
+    return {
+        "response": c.kind,
+        "period": c.period,
+        "distinct_points": c.distinct,
+        "points": c.points,
+        "evidence": "; ".join(c.reasons),
+    }

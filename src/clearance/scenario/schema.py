@@ -1163,8 +1163,7 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
     if "steady_state" in d and (t := _section(d, "steady_state", problems)) is not None:
         own = mech is not None and mech.type is MechanismType.GENERAL
         own = own and traj is not None and not traj.actuators
-        solver_table = d.get("solver") if isinstance(d.get("solver"), dict) else {}
-        steady, solver = parse_steady_state(t, traj, solver, solver_table, own, problems)
+        steady, solver = parse_steady_state(t, traj, solver, own, problems)
     problems.raise_if_any()
     return Scenario(
         meta,  # type: ignore[arg-type]

@@ -5,7 +5,8 @@ with the transient to discard stated in periods.
     [steady_state]
     period = 0.5              # [s] drive period; default: trajectory.period
     transient_periods = 20    # periods discarded before Poincare points, spectra, ...
-    samples_per_period = 200  # output samples per period (sets solver.dt_out = period / this)
+    samples_per_period = 200  # output samples per period (replaces solver.dt_out by
+                              # period / this; default: period / solver.dt_out, rounded)
     phase = 0.0               # stroboscopic phase, a fraction of the period in [0, 1)
 
 The number of periods is trajectory.duration / period (a whole number). The drive must be
@@ -17,7 +18,6 @@ kinematics runs its own drivers, whose periodicity is the author's to state.
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -71,9 +71,7 @@ def _whole(x: float) -> int | None:
     return int(k) if k >= 1 and abs(x - k) <= _WHOLE * max(1.0, x) else None
 
 
-def parse_steady_state(
-    t: dict, trajectory, solver, solver_table: dict, general_own: bool, problems: Problems
-):
+def parse_steady_state(t: dict, trajectory, solver, general_own: bool, problems: Problems):
     """(SteadyStateSpec, solver with dt_out = period / samples_per_period) or (None, solver)
     with the problems reported. trajectory, solver: the parsed sections (None if invalid);
     general_own: a general mechanism running its own drivers (no IK)."""
@@ -141,13 +139,7 @@ def parse_steady_state(
     m = kw["samples_per_period"]
     if m is None:
         m = max(1, round(period / solver.dt_out))
-    elif "dt_out" in solver_table and not math.isclose(solver.dt_out, period / m, rel_tol=1e-12):
-        problems.add(
-            "solver.dt_out",
-            solver.dt_out,
-            f"conflicts with steady_state.samples_per_period = {m} (dt_out = period / "
-            f"samples_per_period = {period / m:g} s): give one of them",
-        )
-        return None, solver
+    # (samples_per_period, when given, replaces solver.dt_out: a study's base is a canonical
+    # scenario, which always holds a dt_out, so "both given" cannot be told from a conflict)
     spec = SteadyStateSpec(float(period), periods, ntr, m, round(phase * m) / m)
     return spec, dataclasses.replace(solver, dt_out=float(period) / m)

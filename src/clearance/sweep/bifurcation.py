@@ -84,13 +84,22 @@ def bifurcation(
     progress: bool | Callable[[str], None] = True,
     folder: str | os.PathLike | None = None,
     figure: bool = True,
+    continuation: bool = False,
 ) -> BifurcationOutput:
     """Run (run=True: the unfinished cases, resumably, on Dask as `run_study`) or collect a
     one-parameter steady-state study and draw its bifurcation diagram.
 
     study: a study file, a `Study`, or (run=False) a study folder. channels: the
     channels analysed per case (default: `clearance.nonlinear.analyze.default_channels`);
-    channel: the one plotted (default: the first of them)."""
+    channel: the one plotted (default: the first of them).
+
+    continuation: run the cases one after the other in the order of the values (give them
+    increasing, or decreasing, to follow a branch either way), in this process,
+    each starting from the previous case's final state (`clearance_final_state` of its
+    file; whole drive periods, so the drive's phase matches) instead of the scenario's
+    initial placement: a branch is followed as the parameter changes, and coexisting
+    attractors show by running the study up and down. The first
+    case starts as the scenario says; a resumed study starts from the last finished case."""
     from clearance.sweep.run import run_study
 
     report = None
@@ -107,12 +116,15 @@ def bifurcation(
         st = study if isinstance(study, Study) else load_study(study)
         pname = check_bifurcation_study(st)
         fold = Path(folder).expanduser().resolve() if folder is not None else st.folder
-        if run:
+        if run and continuation:
+            report = _continue(st, pname, fold, progress)
+        elif run:
             report = run_study(
                 st, scheduler=scheduler, n_workers=n_workers, progress=progress, folder=fold
             )
         cases = [(c.id, c.values[pname], c) for c in st.cases]
-    cases.sort(key=lambda c: c[1])
+    if not continuation:
+        cases.sort(key=lambda c: c[1])
     from clearance.sweep.study import Case
 
     values, points, kinds, rows, strobes, missing = [], [], [], [], [], []
@@ -159,6 +171,42 @@ def bifurcation(
         return out
     out.files = _write(fold / COLLECTED, out, chans, strobes, rows, figure)
     return out
+
+
+def _continue(st: Study, pname: str, folder: Path, progress) -> Any:
+    """Run the unfinished cases in the study's order, each from the previous one's end."""
+    import time
+
+    from clearance.io.dataset import load_results
+    from clearance.sweep.run import StudyReport, _task, start_case
+    from clearance.sweep.store import prepare_folder
+
+    say = print if progress is True else (progress or (lambda _m: None))
+    t0 = time.perf_counter()
+    prepare_folder(st, folder)
+    rep = StudyReport(st.name, folder, len(st.cases), "continuation (serial)")
+    start = None
+    for c in st.cases:
+        nc, _ = case_files(folder, c.id)
+        if is_finished(folder, c):
+            rep.skipped.append(c.id)
+            start = np.asarray(load_results(nc).attrs.get("clearance_final_state"), dtype=float)
+            continue
+        task = _task(st, c, folder, None)
+        if start is not None and start.ndim == 1 and start.size:
+            task["start_state"] = start.tolist()
+        rep.submitted.append(c.id)
+        side = start_case(task)()
+        if side.get("status") != "finished":
+            rep.failed[c.id] = str(side.get("reason", ""))
+            say(f"{c.id} failed: {side.get('reason', '')}; the branch stops here")
+            break
+        rep.finished.append(c.id)
+        start = np.asarray(load_results(nc).attrs["clearance_final_state"], dtype=float)
+        src = "the previous case's end" if "start_state" in task else "the scenario's start"
+        say(f"[{len(rep.skipped) + len(rep.finished)}/{len(st.cases)}] {c.label()} from {src}")
+    rep.wall_time = time.perf_counter() - t0
+    return rep
 
 
 def _write(out_dir: Path, out: BifurcationOutput, chans, strobes, rows, figure) -> list[Path]:

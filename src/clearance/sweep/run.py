@@ -114,7 +114,8 @@ def run_case(task: Mapping[str, Any]) -> dict:
     """Run one case from plain data; return its sidecar (also written to the folder).
 
     task: study (name), case (id), index, values, overrides, base (scenario dict), folder,
-    metrics (names), joint_template, and optionally fault (a test hook, see `_fault`).
+    metrics (names), joint_template, and optionally start_state (the clearance run's
+    initial state, a list of floats: continuation) and fault (a test hook, see `_fault`).
     The sidecar says "running" (with the attempt number) while the case runs, then
     "finished" (metrics, summary, timings, result file size) or "failed" (reason and
     traceback; the exception is re-raised so that Dask retries it).
@@ -187,6 +188,7 @@ def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callabl
                 reuse_ideal=True,
                 defer_write=defer_write,
                 log=None,
+                y0=task.get("start_state"),
             )
     except INPUT_ERRORS as e:  # the same input fails the same way: no retry
         failed(e, time.perf_counter() - t0)
