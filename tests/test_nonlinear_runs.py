@@ -238,3 +238,85 @@ def test_shipped_bifurcation_study_is_valid():
     v = sorted(c.values["radial_clearance"] for c in s.cases)
     assert v[0] == pytest.approx(5e-5) and v[-1] == pytest.approx(5e-4)
     assert s.base["steady_state"]["transient_periods"] == 20
+
+
+IMPACT_OSCILLATOR = """
+format_version = 1
+[scenario]
+name = "impact_oscillator"
+[mechanism]
+type = "general"
+gravity = [0.0, 0.0, 0.0]
+platform = "ball"
+[mechanism.bodies.ball]
+mass = 1.0
+inertia = [0.01, 0.01, 0.01]
+[mechanism.markers.g]
+body = "ground"
+axis = [1.0, 0.0, 0.0]
+[mechanism.markers.b]
+body = "ball"
+axis = [1.0, 0.0, 0.0]
+[mechanism.markers.anchor]
+body = "ground"
+position = [-0.5, 0.0, 0.0]
+[mechanism.joints.p]
+type = "prismatic"
+marker_i = "g"
+marker_j = "b"
+[mechanism.joints.S]
+type = "spherical"
+marker_i = "g"
+marker_j = "b"
+[mechanism.forces.k]
+type = "spring_damper"
+marker_i = "anchor"
+marker_j = "b"
+stiffness = 1000.0
+damping = 2.0
+free_length = 0.5
+[mechanism.forces.F]
+type = "point_force"
+marker = "b"
+direction = [1.0, 0.0, 0.0]
+magnitude = { type = "sinusoid", amplitude = 2.0, omega = 25.0 }
+[trajectory]
+duration = 15.079644737231007   # 60 periods of 2 pi / 25
+[clearance.joints.S]
+ball_radius = 0.01
+radial_clearance = 0.001
+normal = { law = "flores", restitution = 0.9 }
+friction = { law = "none" }
+[solver]
+method = "tsit5"
+rtol = 1e-10
+atol = 1e-13
+[output]
+folder = "OUT"
+figures = false
+[steady_state]
+period = 0.25132741228718345    # 2 pi / 25
+transient_periods = 50
+samples_per_period = 50
+lyapunov_periods = 150
+"""
+
+
+def test_general_scenario_with_steady_state_and_lyapunov_in_the_summary(tmp_path):
+    """The impact oscillator of tests/test_nonlinear.py as a file (type general, its own
+    force as the drive, so steady_state.period is required): `clearance run` classifies it
+    period-1 and reports the two-trajectory exponent of [steady_state] lyapunov_periods
+    against the independent oracle's monodromy value -1.8936 1/s."""
+    from clearance.io.dataset import load_results
+
+    f = tmp_path / "impact.toml"
+    f.write_text(IMPACT_OSCILLATOR.replace("OUT", str(tmp_path / "res")))
+    r = CliRunner().invoke(app, ["run", str(f)])
+    assert r.exit_code == 0, r.output
+    assert "steady state (11 Poincare points after the transient): period-1" in r.output
+    assert "largest Lyapunov exponent" in r.output
+    attrs = load_results(tmp_path / "res" / "impact_oscillator.nc").attrs
+    assert attrs["lyapunov_exponent"] == pytest.approx(-1.8936358, rel=0.03), attrs
+    bad = IMPACT_OSCILLATOR.replace("period = 0.25132741228718345", "")
+    with pytest.raises(ScenarioError, match=r"steady_state.period.*required"):
+        scenario_from_dict(tomllib.loads(bad))

@@ -328,6 +328,40 @@ def final_state(r: Result) -> np.ndarray:
     return y
 
 
+# the two-trajectory estimate: its integration error must stay far below the separation
+LYAPUNOV_RTOL = 1e-9
+LYAPUNOV_ATOL = 1e-12
+LYAPUNOV_D0 = 1e-7
+
+
+def steady_lyapunov(cc: Compiled, r: Result, s: Scenario):
+    """The largest Lyapunov exponent of the clearance mechanism from the end of a steady-state
+    run (`clearance.nonlinear.mechanism_lyapunov`): [steady_state] lyapunov_periods periods,
+    renormalised lyapunov_intervals times per period (the first period not counted), at the
+    scenario's method with rtol <= LYAPUNOV_RTOL so that the integration error stays far
+    below the separation LYAPUNOV_D0."""
+    from clearance.nonlinear.mechanism import mechanism_lyapunov
+
+    st = s.steady_state
+    sv = s.solver
+    k = st.lyapunov_intervals
+    return mechanism_lyapunov(
+        cc,
+        interval=st.period / k,
+        intervals=st.lyapunov_periods * k,
+        transient_intervals=k,
+        t_start=float(r.t[-1]),
+        y0=final_state(r),
+        d0=LYAPUNOV_D0,
+        method=sv.method,
+        rtol=min(sv.rtol, LYAPUNOV_RTOL),
+        atol=min(sv.atol, LYAPUNOV_ATOL),
+        baumgarte=(sv.baumgarte_alpha, sv.baumgarte_beta),
+        solver=sv.linear_solver,
+        max_step=sv.max_step,
+    )
+
+
 def _given_start(y0: object, cc: Compiled) -> np.ndarray:
     y = np.asarray(y0, dtype=float)
     if y.shape != (cc.ny,) or not np.all(np.isfinite(y)):
@@ -830,6 +864,7 @@ STAGES = (
     "estimate",
     "ideal",
     "clearance",
+    "lyapunov",  # ([steady_state] lyapunov_periods > 0)
     "summary",
     "datasets",
     "write",
@@ -1051,10 +1086,16 @@ def run_scenario(
         summary = summarize(
             r_ideal, r_clr, info.platform_body, thresholds=s.checks.plausibility_kwargs()
         )
+    lam = None
+    if s.steady_state is not None and s.steady_state.lyapunov_periods and r_clr.success:
+        with timer("lyapunov"):
+            _say(log, f"      Lyapunov exponent: {s.steady_state.lyapunov_periods} periods x 2")
+            lam = steady_lyapunov(cc, r_clr, s)
+    with timer("summary"):
         if s.steady_state is not None and info.platform_body:
             st = s.steady_state
             grid = Steady(st.period, st.samples_per_period, st.transient_periods, st.phase)
-            summary["steady_state"] = response_of_run(r_clr, grid, info.platform_body)
+            summary["steady_state"] = response_of_run(r_clr, grid, info.platform_body, lyapunov=lam)
     write = functools.partial(
         write_outputs,
         s,
@@ -1064,6 +1105,14 @@ def run_scenario(
             **({"ik_min_sigma": ik.min_sigma, "ik_max_condition": ik.max_condition} if ik else {}),
             **(s.steady_state.attrs() if s.steady_state is not None else {}),
             **({"clearance_final_state": final_state(r_clr)} if r_clr.t.size else {}),
+            **(
+                {
+                    "lyapunov_exponent": lam.exponent,
+                    "lyapunov_standard_error": lam.standard_error,
+                }
+                if lam is not None
+                else {}
+            ),
             "clearance_final_time": float(r_clr.t[-1]) if r_clr.t.size else 0.0,
             "plausibility": json.dumps(
                 {k: summary[k]["plausibility"] for k in ("ideal", "clearance")}

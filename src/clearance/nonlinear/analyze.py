@@ -386,7 +386,7 @@ def save_analysis(path: str | Path, analysis: Analysis, *, attrs: Mapping | None
     return save_results(path, {"analysis": analysis.to_dataset()}, attrs=attrs)
 
 
-def response_of_run(r, steady: Steady, platform: str, *, tol: float = 1e-3) -> dict:
+def response_of_run(r, steady: Steady, platform: str, *, tol: float = 1e-3, lyapunov=None) -> dict:
     """The classification of a run's steady state (a `Result` on a steady grid): the
     stroboscopic points of the platform's position and of every clearance joint's
     eccentricity, each coordinate scaled by its range over the steady samples. Returns
@@ -402,8 +402,10 @@ def response_of_run(r, steady: Steady, platform: str, *, tol: float = 1e-3) -> d
     X = np.column_stack(cols)
     scale = np.ptp(X[idx[0] :], axis=0)
     scale[scale == 0] = 1.0
-    c = classify(X[idx] / scale, tol=tol, zero_one=True)
+    c = classify(X[idx] / scale, tol=tol, zero_one=True, lyapunov=lyapunov)
     return {
+        "lyapunov": None if lyapunov is None else lyapunov.exponent,
+        "lyapunov_standard_error": None if lyapunov is None else lyapunov.standard_error,
         "response": c.kind,
         "period": c.period,
         "distinct_points": c.distinct,

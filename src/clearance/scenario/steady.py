@@ -8,6 +8,9 @@ with the transient to discard stated in periods.
     samples_per_period = 200  # output samples per period (replaces solver.dt_out by
                               # period / this; default: period / solver.dt_out, rounded)
     phase = 0.0               # stroboscopic phase, a fraction of the period in [0, 1)
+    lyapunov_periods = 0      # > 0: largest Lyapunov exponent by two trajectories over this
+                              # many periods, from the run's end (clearance.nonlinear)
+    lyapunov_intervals = 1    # renormalisations per period
 
 The number of periods is trajectory.duration / period (a whole number). The drive must be
 periodic with this period: shapes rest-to-rest and sin (trajectory.period divides it) and
@@ -34,6 +37,10 @@ STEADY_FIELDS = {
         "count", None, doc="output samples per period; default: period / solver.dt_out"
     ),
     "phase": Field("nonneg", 0.0, doc="stroboscopic phase, fraction of a period in [0, 1)"),
+    "lyapunov_periods": Field(
+        "count0", 0, doc="periods of the two-trajectory Lyapunov estimate after the run (0: none)"
+    ),
+    "lyapunov_intervals": Field("count", 1, doc="renormalisations per period"),
 }
 _WHOLE = 1e-9  # relative tolerance of "a whole number of periods"
 
@@ -48,6 +55,8 @@ class SteadyStateSpec:
     transient_periods: int = 0
     samples_per_period: int = 100
     phase: float = 0.0
+    lyapunov_periods: int = 0
+    lyapunov_intervals: int = 1
 
     def t_out(self, t_start: float = 0.0) -> np.ndarray:
         """The output grid t_start + period k / m, k = 0 .. periods m: the stroboscopic
@@ -141,5 +150,13 @@ def parse_steady_state(t: dict, trajectory, solver, general_own: bool, problems:
         m = max(1, round(period / solver.dt_out))
     # (samples_per_period, when given, replaces solver.dt_out: a study's base is a canonical
     # scenario, which always holds a dt_out, so "both given" cannot be told from a conflict)
-    spec = SteadyStateSpec(float(period), periods, ntr, m, round(phase * m) / m)
+    spec = SteadyStateSpec(
+        float(period),
+        periods,
+        ntr,
+        m,
+        round(phase * m) / m,
+        kw["lyapunov_periods"],
+        kw["lyapunov_intervals"],
+    )
     return spec, dataclasses.replace(solver, dt_out=float(period) / m)
