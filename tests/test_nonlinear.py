@@ -405,3 +405,103 @@ def test_impact_oscillator_periodic_orbit_against_independent_oracle():
     # the multipliers are complex (the separation turns within a period): the estimate
     # converges as 1 / (intervals T); 200 periods give 0.1 % (40 gave 5 %)
     assert est.exponent == pytest.approx(lam.lambda_max, rel=0.02), (str(est), lam.lambda_max)
+
+
+# ---------------------------------------------------------------- sections in the loop
+
+
+def test_section_located_in_the_loop_on_the_dense_output():
+    """The linear oscillator's velocity crosses 0 downward where x = X at
+    t = (pi/2 + phi)/w + n T: located on the dense output of the accepted steps (coarse
+    output grid, 10 samples per period) to 1e-12 s, the state there to 1e-12 X; both
+    directions give twice as many crossings; vern7 (erk_high) and tsit5 (erk54) alike."""
+    m_, k, c, F, w = 2.0, 200.0, 4.0, 5.0, 7.0
+    T = 2 * math.pi / w
+    X = F / math.hypot(k - m_ * w * w, c * w)
+    phi = math.atan2(c * w, k - m_ * w * w)
+    t0 = (math.pi / 2 + phi) / w
+    for method in ("vern7", "tsit5"):
+        r = cl.simulate(
+            _forced_oscillator(),
+            55 * T,
+            dt_out=T / 10,
+            method=method,
+            rtol=1e-11,
+            atol=1e-13,
+            section=cl.Section("mass", "vx", 0.0, -1),
+        )
+        assert r.success and r.section_label == "mass.vx = 0, downward"
+        ts, ys = r.section_time, r.section_state
+        assert ts.size == 55 and r.stats["section_crossings"] == 55
+        late = ts > 50 * T  # the transient has decayed (e^-50: 1e-22)
+        n = np.round((ts[late] - t0) / T)
+        assert np.max(np.abs(ts[late] - (t0 + n * T))) < 1e-12 * 50 * T, method
+        assert np.max(np.abs(ys[late, 0] - X)) < 1e-12 * X
+        assert np.max(np.abs(ys[:, 7])) < 1e-12  # vx at the crossing (q: 7, then v)
+    both = cl.simulate(
+        _forced_oscillator(),
+        10 * T,
+        rtol=1e-10,
+        atol=1e-13,
+        section=cl.Section("mass", "vx", 0.0, 0),
+    )
+    assert both.section_time.size in (19, 20, 21)
+    few = cl.simulate(
+        _forced_oscillator(),
+        10 * T,
+        rtol=1e-10,
+        atol=1e-13,
+        section=cl.Section("mass", "x", 0.0, 1, max_crossings=3),
+    )
+    full = cl.simulate(
+        _forced_oscillator(), 10 * T, rtol=1e-10, atol=1e-13, section=cl.Section("mass", "x")
+    )
+    n = full.section_time.size  # (9: it starts on the section, at rest)
+    assert few.section_time.size == 3 and few.stats["section_crossings"] == n > 3
+    assert np.array_equal(few.section_time, full.section_time[:3])
+    assert f"kept the first 3 of {n} crossings" in few.message
+
+
+def test_section_of_the_impact_oscillator_against_the_oracle():
+    """The ball crossing the socket centre upward (x = 0, +1) between its impacts: times
+    and velocities against the independent hybrid oracle's dense output."""
+    from oracles import impact_oscillator as ref
+    from scipy.optimize import brentq
+
+    w, c = 25.0, 1e-3
+    T = 2 * math.pi / w
+    osc = ref.ImpactOscillator(
+        m=1.0, k=1000.0, d=2.0, F0=2.0, w=w, c=c,
+        K=ref.hertz_internal_stiffness(0.01, c), c_r=0.9,
+    )  # fmt: skip
+    sim = ref.simulate(osc, 20 * T)
+    r = cl.simulate(
+        _impact_oscillator(),
+        20 * T,
+        rtol=1e-11,
+        atol=1e-13,
+        section=cl.Section("ball", "x", 0.0, 1),
+    )
+    # (at rtol 1e-10 one slow crossing, 0.86 s, differs by 2.6e-9 s; at 1e-11 by 4e-11 s:
+    # the trajectories' error, not the location's)
+    # the oracle's upward crossings: sign changes on a fine grid, refined by brentq
+    grid = np.linspace(1e-9, 20 * T, 200_001)
+    x = sim.state(grid)[:, 0]
+    up = np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0))
+    te = np.array([brentq(lambda s: sim.state(s)[0], grid[i], grid[i + 1], xtol=1e-15) for i in up])
+    assert r.success and r.section_time.size == te.size > 20  # (the transient crosses more)
+    assert np.max(np.abs(r.section_time - te)) < 1e-10
+    ve = sim.state(te)[:, 1]
+    assert np.max(np.abs(r.section_state[:, 7] - ve)) < 1e-7 * np.max(np.abs(ve))
+
+
+def test_section_refuses_what_it_cannot_do():
+    mech = _forced_oscillator()
+    with pytest.raises(ModelError, match="adaptive method"):
+        cl.simulate(mech, 1.0, method="rk4", section=cl.Section("mass", "x"))
+    with pytest.raises(ModelError, match="a moving body"):
+        cl.simulate(mech, 1.0, section=cl.Section("platform", "x"))
+    with pytest.raises(ModelError, match="coordinate"):
+        cl.Section("mass", "q7")
+    with pytest.raises(ModelError, match="direction"):
+        cl.Section("mass", "x", direction=2)

@@ -20,6 +20,7 @@ from clearance.analysis.assembly import (
 from clearance.compile.compiled import Compiled, compile_mechanism
 from clearance.integrate.methods import METHODS as _METHODS
 from clearance.integrate.methods import method_loop as _method_loop
+from clearance.integrate.sections import Section
 from clearance.integrate.simulate import (
     Interrupted,
     contact_state,
@@ -106,6 +107,7 @@ __all__ = [
     "initial_state",
     "scipy_rhs",
     "simulate",
+    "Section",
     "Interrupted",
     "acceleration_analysis",
     "assemble",

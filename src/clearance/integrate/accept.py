@@ -12,7 +12,7 @@ from numba import njit
 
 from clearance.dynamics.rhs import constraint_rows
 from clearance.dynamics.solve import solve_constrained
-from clearance.integrate.events import update_contacts
+from clearance.integrate.events import interpolate, update_contacts
 from clearance.kinds import (
     CT_IOUT,
     CT_NLOG,
@@ -124,6 +124,74 @@ def record(cs, out, i):
         out.CS[i, p, 1] = cs.ddm[p]
 
 
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _g(w, y, c):
+    acc = 0.0
+    for i in range(w.shape[0]):
+        acc += w[i] * y[i]
+    return acc - c
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def section(model, out, t, y, ynew, K, P, h, w, ytmp):
+    """A Poincare section crossed within the accepted step from (t, y) to (t + h, ynew):
+    g(y) = out.sec_w . y - out.sec[0] changes sign in the direction out.sec[1] (+1 upward,
+    -1 downward, 0 both) between the step's ends. The crossing is located on the step's
+    dense output (y, the stages K, weights P: `events.interpolate`) by the Illinois method
+    to |g| <= 1e-13 (|g| scale) or 1e-14 of the step, as contact onsets are, and the state
+    there (quaternions normalised) written to out.sec_t / out.sec_Y; out.sec[2] counts the
+    crossings (beyond the buffer too). Two crossings within one step are not seen: the
+    step must resolve the motion of the section's coordinate (it does, at the tolerances
+    that resolve the motion itself)."""
+    sw = out.sec_w
+    if sw.shape[0] == 0:
+        return
+    c = out.sec[0]
+    d = out.sec[1]
+    ga = _g(sw, y, c)
+    gb = _g(sw, ynew, c)
+    up = ga < 0.0 and gb >= 0.0
+    down = ga > 0.0 and gb <= 0.0
+    if not ((up and d >= 0.0) or (down and d <= 0.0)):
+        return
+    scale = 0.0
+    for i in range(sw.shape[0]):
+        scale += abs(sw[i] * y[i]) + abs(sw[i] * ynew[i])
+    gtol = 1e-13 * max(scale, abs(c), 1e-300)
+    xa, xb = 0.0, 1.0
+    x = 1.0
+    kept = 0  # Illinois: halve the value kept twice on one side
+    if gb == 0.0:
+        for i in range(y.shape[0]):
+            ytmp[i] = ynew[i]
+    else:
+        for _ in range(100):
+            x = xb - gb * (xb - xa) / (gb - ga)
+            if not (xa < x < xb):
+                x = 0.5 * (xa + xb)
+            interpolate(y, K, P, h, x, ytmp, w)
+            g = _g(sw, ytmp, c)
+            if abs(g) <= gtol or xb - xa <= 1e-14:
+                break
+            if (g > 0.0) == (gb > 0.0):
+                xb, gb = x, g
+                if kept == -1:
+                    ga *= 0.5
+                kept = -1
+            else:
+                xa, ga = x, g
+                if kept == 1:
+                    gb *= 0.5
+                kept = 1
+    n = int(out.sec[2])
+    if n < out.sec_t.shape[0]:
+        out.sec_t[n] = t + x * h
+        for i in range(y.shape[0]):
+            out.sec_Y[n, i] = ytmp[i]
+        normalise_quaternions(model, out.sec_Y[n], out.sec_Y[n, :0])
+    out.sec[2] = n + 1
+
+
 @njit(cache=True, error_model="numpy")
 def start(model, wk, cs, opts, out, t0, y):
     """Begin a run at (t0, y): reset the statistics, project y if asked, set the contact
@@ -132,6 +200,7 @@ def start(model, wk, cs, opts, out, t0, y):
     for k in range(NSTATS):
         out.stats[k] = 0.0
     out.stats[ST_HMIN] = np.inf
+    out.sec[2] = 0.0
     if opts.proj_tol > 0.0:
         st = project(model, wk, t0, y, opts.solver, opts.proj_tol, np.int64(5))
         if st != 0:

@@ -26,7 +26,14 @@ import numpy as np
 from numba import njit
 
 from clearance.dynamics.rhs import rhs
-from clearance.integrate.accept import after_step, returned, sample, start, track_peaks
+from clearance.integrate.accept import (
+    after_step,
+    returned,
+    sample,
+    section,
+    start,
+    track_peaks,
+)
 from clearance.integrate.events import interpolate, locate_event, refine_peaks
 from clearance.kinds import (
     CT_BUDGET,
@@ -268,6 +275,7 @@ def _erk54(model, wk, cs, opts, out, A, C, E, P, t0, y0):
                     model, wk, cs, opts, t, y, K, P, h, 1.0, out.PK, stats, ytmp, err, cout
                 )
             tnew = t + h
+            section(model, out, t, y, ynew, K, P, h, w, ytmp)
             # dense output for every requested time in (t, tnew]
             while iout < nout and t_out[iout] <= tnew:
                 interpolate(y, K, P, h, (t_out[iout] - t) / h, out.Y[iout], w)

@@ -25,7 +25,14 @@ import numpy as np
 from numba import njit
 
 from clearance.dynamics.rhs import rhs
-from clearance.integrate.accept import after_step, returned, sample, start, track_peaks
+from clearance.integrate.accept import (
+    after_step,
+    returned,
+    sample,
+    section,
+    start,
+    track_peaks,
+)
 from clearance.integrate.erk import initial_step
 from clearance.integrate.events import interpolate, locate_event, refine_peaks
 from clearance.kinds import (
@@ -240,7 +247,7 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
             continue
         # passed: stage ns = f(t + h, y_new) (the next step's stage 0 unless y changes); a
         # failure here or in the dense stages rejects the step, as a stage of erk54 does
-        dense = model.nclr > 0 or (iout < nout and t_out[iout] <= t + h)
+        dense = model.nclr > 0 or out.sec_w.shape[0] > 0 or (iout < nout and t_out[iout] <= t + h)
         st = _end_stages(
             model,
             wk,
@@ -321,6 +328,7 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
                 locate_event(model, wk, cs, t, y, K, P, h, rtol)
             refine_peaks(model, wk, cs, opts, t, y, K, P, h, 1.0, out.PK, stats, ytmp, yd2, cout)
         tnew = t + h
+        section(model, out, t, y, ynew, K, P, h, w, ytmp)
         while iout < nout and t_out[iout] <= tnew:
             interpolate(y, K, P, h, (t_out[iout] - t) / h, out.Y[iout], w)
             if sample(model, wk, cs, opts, out, iout) != _SUCCESS:

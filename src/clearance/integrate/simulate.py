@@ -4,6 +4,7 @@ into a `Result`; and `scipy_rhs`, the same right-hand side for `scipy.integrate.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time as _time
 from collections.abc import Callable
@@ -17,6 +18,7 @@ from clearance.dynamics.rhs import make_work, rhs
 from clearance.integrate.buffers import prefaulted_zeros, prefaulted_zeros_many
 from clearance.integrate.methods import METHODS, method_loop, resolve_method
 from clearance.integrate.post import Blocks, PostArrays, post_process
+from clearance.integrate.sections import Section
 from clearance.integrate.state import Options, Outputs
 from clearance.kinds import (
     CT_BUDGET,
@@ -159,6 +161,7 @@ def simulate(
     progress: Callable[[float], object] | None = None,
     stop: object | None = None,
     post_tol: float | None = None,
+    section: Section | None = None,
 ) -> Result:
     """Simulate a mechanism from t_start to t_end.
 
@@ -191,6 +194,11 @@ def simulate(
     violations phi, phi_dot: within their own size; 0: every sample evaluated exactly;
     `clearance.integrate.post`). `stats["post_exact"]` counts the exact
     evaluations.
+
+    section: a Poincare section (`Section`: a body's state coordinate = value, crossed in a
+    direction), located on the dense output of every accepted step as contact onsets are
+    (adaptive methods only); the crossings' times and states are `Result.section_time`,
+    `Result.section_state` (and `stats["section_crossings"]` counts them all).
     """
     c = system if isinstance(system, Compiled) else compile_mechanism(system)
     if not isinstance(method, str) or (method != "auto" and method not in METHODS):
@@ -267,6 +275,18 @@ def simulate(
             t_out = t_start + dt_out * np.arange(n + 1)
             if t_out[-1] < t_end - 1e-12 * max(1.0, abs(t_end)):
                 t_out = np.append(t_out, t_end)
+    sec = None
+    if section is not None:
+        if not isinstance(section, Section):
+            raise ModelError("simulate", "section", section, "expected a clearance.Section")
+        if not METHODS[method].adaptive:
+            raise ModelError(
+                "simulate",
+                "section",
+                section.label(),
+                f"located on the dense output: needs an adaptive method, not {method!r}",
+            )
+        sec = (section.weights_for(c), section.value, section.direction, section.max_crossings)
     t_out = np.ascontiguousarray(t_out, dtype=float)
     if (
         t_out.ndim != 1
@@ -296,6 +316,7 @@ def simulate(
         step=step,
         max_events=max_events,
         stages=METHODS[method].stages,
+        section=sec,
     )
     wk = make_work(c.model)
     cs = make_contact_state(c.model)
@@ -359,6 +380,21 @@ def simulate(
         ptol=post_tol,
         pabs=atol if post_tol > 0.0 else 0.0,
     )
+    if sec is not None:
+        ns = int(out.sec[2])
+        kept = min(ns, out.sec_t.size)
+        result = dataclasses.replace(
+            result,
+            section_time=out.sec_t[:kept].copy(),
+            section_state=out.sec_Y[:kept].copy(),
+            section_label=section.label(),
+        )
+        result.stats["section_crossings"] = ns
+        if ns > kept:
+            result = dataclasses.replace(
+                result,
+                message=result.message + f"; the section kept the first {kept} of {ns} crossings",
+            )
     if ctrl_c:
         raise Interrupted(result)
     return result
@@ -452,7 +488,13 @@ def check_output_size(
 
 
 def loop_inputs(
-    c: Compiled, t_out: np.ndarray, *, max_events: int, stages: int = 7, **opts
+    c: Compiled,
+    t_out: np.ndarray,
+    *,
+    max_events: int,
+    stages: int = 7,
+    section: tuple | None = None,
+    **opts,
 ) -> tuple:
     """(Options, Outputs) of a compiled loop run of `c` sampled at `t_out`: the options
     (alpha, beta, solver code, rtol, atol, h0, hmax, hmin, max_steps, proj_tol, step) as
@@ -470,6 +512,11 @@ def loop_inputs(
         ctl=np.zeros(NCTL),
         ys=np.zeros(c.ny),
         ks=np.zeros((stages, c.ny)),  # the method's stages (methods.Method.stages)
+        # section: (weights (ny,), value, direction, max_crossings) or None
+        sec=np.array([0.0, 0.0, 0.0] if section is None else [section[1], section[2], 0.0]),
+        sec_w=np.zeros(0) if section is None else np.asarray(section[0], dtype=float),
+        sec_t=np.zeros(0 if section is None else section[3]),
+        sec_Y=np.zeros((0, c.ny) if section is None else (section[3], c.ny)),
     )
     return opts, out
 

@@ -27,7 +27,8 @@ What every loop must do (clearance.integrate.accept has the shared hooks):
    `accept.after_step(...)` (discrete contact update and event log, quaternion
    normalisation, projection), which says whether y or the discrete state changed (a
    first-same-as-last stage must then be recomputed); then `accept.track_peaks` with the
-   diagnostics of f(t, y);
+   diagnostics of f(t, y); with a Poincare section (out.sec_w not empty), `accept.section`
+   on each accepted step's dense output, before its samples;
 3. count in out.stats (kinds.ST_*): rhs evaluations, accepted and rejected steps,
    projections, steps cut at events, smallest / largest / last step;
 4. hand control back: after out.ctl[CT_BUDGET] attempted steps in one call (0: no limit),
@@ -80,3 +81,10 @@ class Outputs(NamedTuple):
     ctl: np.ndarray  # (kinds.NCTL,) the step budget of a call, the loop's scalars between calls
     ys: np.ndarray  # (ny,) the loop's current state, kept between calls
     ks: np.ndarray  # (stages, ny) the method's stages, kept between calls (FSAL: ks[0] = f(t, ys))
+    # a Poincare section g(y) = sec_w . y - sec[0] = 0 crossed in direction sec[1] (+1
+    # upward, -1 downward, 0 both), located on the dense output of the accepted steps
+    # (`accept.section`); sec[2]: crossings found (also those beyond the buffer)
+    sec: np.ndarray  # (3,)
+    sec_w: np.ndarray  # (ny,) weights of g, or (0,): no section
+    sec_t: np.ndarray  # (max_crossings,) crossing times
+    sec_Y: np.ndarray  # (max_crossings, ny) states at the crossings

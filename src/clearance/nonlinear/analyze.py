@@ -302,7 +302,8 @@ def analyze(
     """Analyse the steady state of a run (a result file's `group`, or a dataset with the
     file's attributes): Poincare points of `channels` (default `default_channels`) once per
     period, their recurrence (tolerance tol x each channel's range over the steady part),
-    the 0-1 test on the first channel's Poincare points (>= 100 periods), Rosenstein's
+    the 0-1 test on the Poincare points of the channel that spreads most relative to its
+    range (>= 100 periods), Rosenstein's
     estimate from the first channel's steady samples (lyapunov), amplitude spectra and
     Welch PSDs with the dominant lines, and a section (channel, value, direction) located
     on the samples with the channel's rate. Classification: `clearance.nonlinear.classify`.
@@ -330,7 +331,9 @@ def analyze(
     steady = np.arange(idx[0], t.size)
     P = np.column_stack([series[ch][idx] for ch in chans])
     scale = np.array([np.ptp(series[ch][steady]) or 1.0 for ch in chans])
-    K = zero_one_test(P[:, 0]).K if P.shape[0] >= 100 else None
+    # the 0-1 test on the channel whose points spread most relative to its range
+    spread = int(np.argmax(np.ptp(P / scale, axis=0)))
+    K = zero_one_test(P[:, spread]).K if P.shape[0] >= 100 else None
     lyap = None
     # Rosenstein's estimate needs many mean periods of data (its Theiler window and
     # horizon are several of them): only from 50 periods on
@@ -402,7 +405,13 @@ def response_of_run(r, steady: Steady, platform: str, *, tol: float = 1e-3, lyap
     X = np.column_stack(cols)
     scale = np.ptp(X[idx[0] :], axis=0)
     scale[scale == 0] = 1.0
-    c = classify(X[idx] / scale, tol=tol, zero_one=True, lyapunov=lyapunov)
+    c = classify(
+        X[idx] / scale,
+        tol=tol,
+        zero_one=True,
+        lyapunov=lyapunov,
+        drive_frequency=1.0 / steady.period,
+    )
     return {
         "lyapunov": None if lyapunov is None else lyapunov.exponent,
         "lyapunov_standard_error": None if lyapunov is None else lyapunov.standard_error,

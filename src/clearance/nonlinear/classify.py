@@ -58,14 +58,20 @@ def classify(
     """Classify a response from its Poincare points (one per drive period, after the
     transient; (n, d) array over the chosen channels) and optional evidence.
 
-    Rules, in order: the points recur with period n <= max_period within tol (default
-    1e-4 of their largest magnitude) -> "period-n"; else a Lyapunov exponent positive by
-    more than 3 standard errors -> "chaotic"; else the 0-1 test on the first channel
-    (K > 0.8 chaotic, K < 0.2 regular, so "quasi-periodic" when the points do not recur;
-    zero_one: True to run it on >= 100 points, a number to use a K computed elsewhere,
-    None / False to skip) and a Lyapunov exponent within 3 standard errors of 0 ->
-    "quasi-periodic"; else "undetermined". Disagreements between the indicators are
-    stated in the reasons."""
+    Rules, in order:
+    1. the points recur with period n <= max_period within tol (default 1e-4 of their
+       largest magnitude) -> "period-n";
+    2. a Lyapunov exponent positive by more than 3 standard errors -> "chaotic" (without
+       an exponent: a 0-1 test K > 0.8);
+    3. an exponent negative by more than 3 standard errors -> "undetermined": an attracting
+       orbit not reached yet (discard more transient periods);
+    4. K < 0.2, or an exponent within 3 standard errors of 0 with those below 5 % of the
+       drive frequency -> "quasi-periodic";
+    5. else "undetermined" (run longer).
+    zero_one: True to run the 0-1 test on >= 100 points, on the coordinate whose points
+    spread most (scale the coordinates comparably), a number to use a K computed
+    elsewhere, None / False to skip. Disagreements between the indicators are stated in
+    the reasons."""
     P = np.asarray(points, dtype=float)
     if P.ndim == 1:
         P = P[:, None]
@@ -76,16 +82,22 @@ def classify(
     reasons = [f"{nd} distinct Poincare point(s) among {n} (tolerance {tol:.3g})"]
     K = None
     if zero_one is True and n >= 100:
-        K = zero_one_test(P[:, 0]).K
+        # on the coordinate whose points spread most (the one that does not recur; one at
+        # the level of the integration noise would look chaotic to the test)
+        K = zero_one_test(P[:, int(np.argmax(np.ptp(P, axis=0)))]).K
     elif isinstance(zero_one, (int, float)) and not isinstance(zero_one, bool):
         K = float(zero_one)
     if K is not None:
         reasons.append(f"0-1 test K = {K:.3f}")
-    lam_pos = lam_zero = False
+    lam_pos = lam_zero = lam_neg = False
     if lyapunov is not None:
         lam, se = lyapunov.exponent, lyapunov.standard_error
         lam_pos = lam > 3 * se and lam > 0
-        lam_zero = abs(lam) <= 3 * se
+        lam_neg = lam < -3 * se and lam < 0
+        # "zero" only when the estimate is sharp against the drive's rate: a wide one
+        # straddles 0 without telling anything
+        sharp = drive_frequency is not None and se < 0.05 * drive_frequency
+        lam_zero = abs(lam) <= 3 * se and sharp
         reasons.append(f"largest Lyapunov exponent {lam:.4g} +- {se:.2g} 1/s")
     if peaks:
         lines = ", ".join(
@@ -103,6 +115,12 @@ def classify(
         kind = "chaotic"
         if K is not None and K < K_REGULAR:
             reasons.append("but the 0-1 test says regular")
+    elif lam_neg:
+        kind = "undetermined"
+        reasons.append(
+            "the exponent is negative (an attracting orbit) but the points do not recur yet: "
+            "discard more transient periods"
+        )
     elif (K is not None and K < K_REGULAR) or lam_zero:
         kind = "quasi-periodic"
     else:

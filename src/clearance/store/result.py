@@ -79,6 +79,11 @@ class Result:
     contact_points: np.ndarray = field(default=None, repr=False)  # (n, ncp, NPOUT) per point
     contact_point_names: tuple = ()
     contact_point_joints: tuple = ()  # clearance joint of each contact point
+    # Poincare section of `simulate(section=...)`: crossing times (k,) [s] and the states
+    # there (k, ny), located on the dense output; section_label says which section
+    section_time: np.ndarray = field(default=None, repr=False)
+    section_state: np.ndarray = field(default=None, repr=False)
+    section_label: str = ""
 
     @property
     def success(self) -> bool:
