@@ -41,7 +41,22 @@ def test_steady_state_section_validation_and_round_trip():
     assert np.array_equal(t[st.strobe_indices(t.size)], 0.05 * np.arange(1, 6))  # exact
     again = scenario_from_dict(scenario_to_dict(s))
     assert again.steady_state == st and again.solver == s.solver
+    d = _base()
+    d["steady_state"]["section"] = {"body": "platform", "coordinate": "vz", "value": 0}
+    st = scenario_from_dict(d).steady_state
+    assert st.section == {"body": "platform", "coordinate": "vz", "value": 0.0, "direction": 1}
+    assert scenario_from_dict(scenario_to_dict(scenario_from_dict(d))).steady_state == st
     bad = {
+        "steady_state.section.coordinate": (
+            {"section": {"body": "platform", "coordinate": "h"}},
+            "allowed: x, y, z",
+        ),
+        "steady_state.section.direction": (
+            {"section": {"body": "platform", "direction": 2}},
+            "allowed: 1",
+        ),
+        "steady_state.section.body": ({"section": {"value": 0.7}}, "required"),
+        "steady_state.section": ({"section": 1.0}, "expected a table"),
         "steady_state.transient_periods": ({"transient_periods": 5}, "fewer than the run's 5"),
         "steady_state.period": ({"period": 0.07}, "not periodic with this period"),
         "steady_state.phase": ({"phase": 1.0}, "[0, 1)"),
@@ -79,6 +94,7 @@ def steady_file(tmp_path_factory):
     folder = tmp_path_factory.mktemp("steady")
     d = _base()
     d["output"] = {**d["output"], "folder": str(folder / "res"), "figures": False}
+    d["steady_state"]["section"] = {"body": "platform", "coordinate": "vz", "direction": -1}
     f = folder / "steady.toml"
     f.write_text(dumps_toml(d))
     r = CliRunner().invoke(app, ["run", str(f), "--no-figures"])
@@ -107,7 +123,19 @@ def test_analyze_command_on_a_steady_state_run(steady_file):
     assert a.attrs["classification"] in ("period-1", "undetermined", "quasi-periodic", "chaotic")
     for name in ("phase_portraits", "poincare", "spectra"):
         assert (nc.parent / f"ups_upu_clearance_{name}.png").stat().st_size > 10_000
-    # the section crossings lie on the section
+    # the run's own section (platform vz = 0 downward, located in the integration loop):
+    # the file's crossings, used by analyze without --section
+    vz = ds["section_velocity"].sel(body="platform", axis="z").values
+    assert ds.sizes["crossing"] >= 4 and np.max(np.abs(vz)) < 1e-12
+    r = runner.invoke(app, ["analyze", str(nc), "--no-figures"])
+    assert r.exit_code == 0 and "(located in the integration loop)" in r.output, r.output
+    a2 = xr.load_dataset(out, engine="netcdf4", group="analysis")
+    ts = a2["section_time"].values
+    assert np.array_equal(ts, ds["section_time"].values[ds["section_time"].values >= 0.05])
+    z_sec = ds["section_position"].sel(body="platform", axis="z").values
+    got = a2["section_points"].sel(channel="position[platform,z]").values
+    assert np.array_equal(got, z_sec[-got.size :])
+    # the Hermite-located crossings of --section lie on the section
     sec = a["section_points"].sel(channel="eccentricity[S_1,x]").values
     assert sec.size > 0 and np.max(np.abs(sec)) < 1e-3 * np.ptp(
         ds["eccentricity"].sel(clearance="S_1", axis="x").values

@@ -1061,7 +1061,8 @@ def run_scenario(
                     y_start = place_balls_along_reaction(
                         clr, start_ref, y_start, info.clearance_joints
                     )
-            r_clr = watched("clearance", cc, y0=y_start)
+            sec = s.steady_state.section_spec() if s.steady_state is not None else None
+            r_clr = watched("clearance", cc, y0=y_start, section=sec)
     except Interrupted as e:  # Ctrl-C: keep what was computed, stop the ideal run too
         stop.set()
         r_clr, interrupted = e.result, True

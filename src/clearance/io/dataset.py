@@ -228,6 +228,28 @@ def result_to_dataset(
                     tb, ab, "rad s-2", "angular acceleration", "body frame (omega'_dot)"
                 ),
             )
+    if result.section_time is not None:  # simulate(section=...): crossings (dim crossing)
+        ys = result.section_state
+        ns = ys.shape[0]
+        dv["section_time"] = _var(
+            ("crossing",),
+            result.section_time,
+            "s",
+            "Poincare section crossing time",
+            f"{result.section_label}; located on the dense output",
+        )
+        if bodies:
+            qs = ys[:, : 7 * nb].reshape(ns, nb, 7)[:, kb]
+            vs = ys[:, c.nq : c.nq + 6 * nb].reshape(ns, nb, 6)[:, kb]
+            tc = ("crossing", "body", "axis")
+            dv.update(
+                section_position=_var(
+                    tc, qs[:, :, :3], "m", "mass-centre position at the section", "world frame"
+                ),
+                section_velocity=_var(
+                    tc, vs[:, :, :3], "m s-1", "mass-centre velocity at the section", "world frame"
+                ),
+            )
     if "multipliers" in groups:
         dv.update(
             multiplier=_var(

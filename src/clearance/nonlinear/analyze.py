@@ -29,7 +29,7 @@ import xarray as xr
 from clearance.model.errors import ModelError
 from clearance.nonlinear.chaos import rosenstein, zero_one_test
 from clearance.nonlinear.classify import Classification, classify
-from clearance.nonlinear.poincare import section_crossings
+from clearance.nonlinear.poincare import _hermite, section_crossings
 from clearance.nonlinear.spectra import (
     amplitude_spectrum,
     dominant_frequencies,
@@ -361,6 +361,8 @@ def analyze(
         zero_one=K if K is not None else None,
     )
     sec = None
+    if section is None and "section_time" in ds.data_vars and ds.sizes.get("crossing", 0):
+        sec = _file_section(ds, chans, t, series, rates, steady[0])
     if section is not None:
         spec, value, direction = section
         if spec not in series:
@@ -380,6 +382,31 @@ def analyze(
             "values": vals,
         }
     return Analysis(chans, st, t[idx], P, cls, peaks, spectra, sec, lyap, K, t, series, rates)
+
+
+def _file_section(ds, chans, t, series, rates, i0) -> dict:
+    """The section crossings the run located in its loop (`section_time`, after the
+    transient): positions and velocities of the file's bodies exactly as the integrator
+    had them there, other channels by the cubic Hermite at those exact times."""
+    ts = np.asarray(ds["section_time"].values, dtype=float)
+    keep = ts >= t[i0]
+    ts = ts[keep]
+    j = np.clip(np.searchsorted(t, ts) - 1, 0, t.size - 2)
+    h = t[j + 1] - t[j]
+    u = (ts - t[j]) / h
+    vals = {}
+    for ch in chans:
+        m = _SPEC.match(ch)
+        var = m.group(1) if m else ""
+        exact = {"position": "section_position", "velocity": "section_velocity"}.get(var)
+        if exact in ds.data_vars and not ch.rstrip("] ").endswith("norm"):
+            b, ax = [x.strip() for x in m.group(2).split(",")]
+            vals[ch] = ds[exact].sel(body=b, axis=ax).values[keep]
+        else:
+            x, r = series[ch], rates[ch]
+            vals[ch] = _hermite(h, x[j], x[j + 1], r[j], r[j + 1], u)
+    spec = str(ds["section_time"].attrs.get("description", "")).split(";")[0]
+    return {"spec": f"{spec} (located in the integration loop)", "times": ts, "values": vals}
 
 
 def save_analysis(path: str | Path, analysis: Analysis, *, attrs: Mapping | None = None) -> Path:

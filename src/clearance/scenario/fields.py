@@ -31,6 +31,7 @@ _ALLOWED = {
     "bool": "expected true or false",
     "positive3": "expected a list of 3 finite numbers > 0",
     "list": "expected a list of distinct names",
+    "table": "expected a table { key = value, ... }",
 }
 
 
@@ -92,6 +93,8 @@ def check_kind(f: Field, value: object) -> tuple[bool, object, str]:
             and len(set(value)) == len(value)
         )
         return ok, tuple(value) if ok else value, allowed
+    if k == "table":
+        return isinstance(value, dict), value, allowed
     if k == "positive3":
         ok = (
             isinstance(value, list)

@@ -119,5 +119,7 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
     if s.steady_state is not None:  # (periods: trajectory.duration / period)
         st = fields_of(s.steady_state)
         del st["periods"]
+        if st["section"] is None:
+            del st["section"]
         doc["steady_state"] = st
     return doc

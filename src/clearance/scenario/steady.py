@@ -41,7 +41,9 @@ STEADY_FIELDS = {
         "count0", 0, doc="periods of the two-trajectory Lyapunov estimate after the run (0: none)"
     ),
     "lyapunov_intervals": Field("count", 1, doc="renormalisations per period"),
+    "section": Field("table", None, doc="Poincare section { body, coordinate, value, direction }"),
 }
+SECTION_KEYS = ("body", "coordinate", "value", "direction")
 _WHOLE = 1e-9  # relative tolerance of "a whole number of periods"
 
 
@@ -57,6 +59,15 @@ class SteadyStateSpec:
     phase: float = 0.0
     lyapunov_periods: int = 0
     lyapunov_intervals: int = 1
+    section: dict | None = None  # {body, coordinate, value, direction}: `section_spec()`
+
+    def section_spec(self):
+        """The `clearance.Section` of the clearance run, or None."""
+        if self.section is None:
+            return None
+        from clearance.integrate.sections import Section
+
+        return Section(**self.section)
 
     def t_out(self, t_start: float = 0.0) -> np.ndarray:
         """The output grid t_start + period k / m, k = 0 .. periods m: the stroboscopic
@@ -150,6 +161,11 @@ def parse_steady_state(t: dict, trajectory, solver, general_own: bool, problems:
         m = max(1, round(period / solver.dt_out))
     # (samples_per_period, when given, replaces solver.dt_out: a study's base is a canonical
     # scenario, which always holds a dt_out, so "both given" cannot be told from a conflict)
+    sec = kw["section"]
+    if sec is not None:
+        sec = _section(sec, problems)
+        if sec is None:
+            return None, solver
     spec = SteadyStateSpec(
         float(period),
         periods,
@@ -158,5 +174,33 @@ def parse_steady_state(t: dict, trajectory, solver, general_own: bool, problems:
         round(phase * m) / m,
         kw["lyapunov_periods"],
         kw["lyapunov_intervals"],
+        sec,
     )
     return spec, dataclasses.replace(solver, dt_out=float(period) / m)
+
+
+def _section(t: dict, problems: Problems) -> dict | None:
+    """[steady_state.section]: a body's state coordinate crossing a value (the body is
+    checked when the mechanism is built)."""
+    from clearance.integrate.sections import COORDINATES
+
+    path = "steady_state.section"
+    n0 = len(problems)
+    for k, v in t.items():
+        if k not in SECTION_KEYS:
+            problems.unknown(f"{path}.{k}", k, v, SECTION_KEYS)
+    body = t.get("body")
+    if not (isinstance(body, str) and body):
+        problems.add(f"{path}.body", body, "required: the moving body whose coordinate crosses")
+    coord = t.get("coordinate", "z")
+    if coord not in COORDINATES:
+        problems.add(f"{path}.coordinate", coord, f"allowed: {', '.join(COORDINATES)}")
+    value = t.get("value", 0.0)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or value != value:
+        problems.add(f"{path}.value", value, "expected a number (the section's value)")
+    direction = t.get("direction", 1)
+    if direction not in (-1, 0, 1) or isinstance(direction, bool):
+        problems.add(f"{path}.direction", direction, "allowed: 1 (upward), -1, 0 (both)")
+    if len(problems) > n0:
+        return None
+    return {"body": body, "coordinate": coord, "value": float(value), "direction": int(direction)}
