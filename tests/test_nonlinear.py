@@ -505,3 +505,42 @@ def test_section_refuses_what_it_cannot_do():
         cl.Section("mass", "q7")
     with pytest.raises(ModelError, match="direction"):
         cl.Section("mass", "x", direction=2)
+
+
+# ---------------------------------------------------------------- review findings
+
+
+def test_lyapunov_of_a_clearance_mechanism_that_stays_out_of_contact():
+    """F0 = 0.1 N never reaches the 1 mm gap: a linear oscillator, both exponents -d/2m =
+    -1 1/s. (The friction states of the contact points do not move out of contact: in the
+    separation they were a neutral direction that held the estimate at 0.)"""
+    T = 2 * math.pi / 25.0
+    lam = mechanism_lyapunov(
+        _impact_oscillator(F0=0.1), interval=T, intervals=240, transient_intervals=2
+    )
+    assert lam.exponent == pytest.approx(-1.0, rel=0.05), str(lam)
+
+
+def test_classification_does_not_mistake_a_transient_or_noise():
+    """A spiral converging to a fixed point is not quasi-periodic (its K is ~0 too); a
+    channel that varies at round-off next to a period-1 one does not make it chaotic."""
+    k = np.arange(300)
+    spiral = np.column_stack([0.97**k * np.cos(0.9 * k) + 1.0, 0.97**k * np.sin(0.9 * k)])
+    c = classify(spiral[50:])
+    assert c.kind == "undetermined" and "converge" in str(c), str(c)
+    quasi = np.column_stack([np.cos(0.9 * math.sqrt(2) * k), np.sin(0.9 * math.sqrt(2) * k)])
+    assert classify(quasi).kind == "quasi-periodic"
+    from clearance.nonlinear.analyze import _scale
+
+    rng = np.random.default_rng(0)
+    z = 0.7 + 1e-16 * rng.standard_normal(300)  # period-1 at round-off
+    e = np.full(300, 1e-4)
+    P = np.column_stack([z / _scale(z), e / _scale(e)])
+    assert classify(P, tol=1e-3).kind == "period-1"
+
+
+def test_rosenstein_finds_no_divergence_in_a_periodic_signal():
+    t = 0.01 * np.arange(20_000)
+    x = np.sin(2 * np.pi * t) + 1e-9 * np.random.default_rng(1).standard_normal(t.size)
+    d = rosenstein(x, 0.01)
+    assert not d.diverges, (d.exponent, d.fit)

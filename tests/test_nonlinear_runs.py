@@ -46,7 +46,12 @@ def test_steady_state_section_validation_and_round_trip():
     st = scenario_from_dict(d).steady_state
     assert st.section == {"body": "platform", "coordinate": "vz", "value": 0.0, "direction": 1}
     assert scenario_from_dict(scenario_to_dict(scenario_from_dict(d))).steady_state == st
+    d = _base()
+    d["steady_state"]["phase"] = 0.999  # rounds to the next period's 0 on a grid of 40
+    st = scenario_from_dict(d).steady_state
+    assert st.phase == 0.0 and st.strobe_indices(201)[0] == 40
     bad = {
+        "steady_state.lyapunov_periods": ({"lyapunov_periods": 3}, ">= 10 renormalisations"),
         "steady_state.section.coordinate": (
             {"section": {"body": "platform", "coordinate": "h"}},
             "allowed: x, y, z",
@@ -140,6 +145,22 @@ def test_analyze_command_on_a_steady_state_run(steady_file):
     assert sec.size > 0 and np.max(np.abs(sec)) < 1e-3 * np.ptp(
         ds["eccentricity"].sel(clearance="S_1", axis="x").values
     )
+
+
+def test_analyze_says_when_a_run_stopped_early(steady_file, tmp_path):
+    """A run stopped by its step budget is not a steady state: analyze says so instead of
+    classifying it."""
+    d = _base()
+    d["output"] = {**d["output"], "folder": str(tmp_path / "res"), "figures": False}
+    d["solver"]["max_steps"] = 20_000  # (about 3 of the 5 periods)
+    f = tmp_path / "short.toml"
+    f.write_text(dumps_toml(d))
+    r = CliRunner().invoke(app, ["run", str(f), "--no-figures"])
+    assert r.exit_code != 0 and "steady state (" not in r.output
+    nc = tmp_path / "res" / "ups_upu.nc"
+    a = analyze(nc, transient_periods=0)
+    assert a.classification.kind == "undetermined"
+    assert "stopped early" in a.classification.reasons[0]
 
 
 def test_analyze_refuses_what_it_cannot_do(steady_file, tmp_path):

@@ -1093,7 +1093,7 @@ def run_scenario(
             _say(log, f"      Lyapunov exponent: {s.steady_state.lyapunov_periods} periods x 2")
             lam = steady_lyapunov(cc, r_clr, s)
     with timer("summary"):
-        if s.steady_state is not None and info.platform_body:
+        if s.steady_state is not None and info.platform_body and r_clr.success:
             st = s.steady_state
             grid = Steady(st.period, st.samples_per_period, st.transient_periods, st.phase)
             summary["steady_state"] = response_of_run(r_clr, grid, info.platform_body, lyapunov=lam)

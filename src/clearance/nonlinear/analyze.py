@@ -17,6 +17,7 @@ whole multiple of its output interval (the samples are then exact too), otherwis
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 from collections.abc import Mapping, Sequence
@@ -27,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from clearance.model.errors import ModelError
-from clearance.nonlinear.chaos import rosenstein, zero_one_test
+from clearance.nonlinear.chaos import LyapunovEstimate, rosenstein, zero_one_test
 from clearance.nonlinear.classify import Classification, classify
 from clearance.nonlinear.poincare import _hermite, section_crossings
 from clearance.nonlinear.spectra import (
@@ -213,8 +214,8 @@ class Analysis:
             ("response", c.kind),
             ("drive period", f"{self.steady.period:g} s ({f0:.4g} Hz)"),
             (
-                "periods analysed",
-                f"{self.strobe.shape[0] - 1} after {self.steady.transient_periods} transient",
+                "Poincare points",
+                f"{self.strobe.shape[0]}, after {self.steady.transient_periods} transient periods",
             ),
             ("distinct Poincare points", f"{c.distinct} of {c.points} (tol {c.tol:.3g})"),
         ]
@@ -328,12 +329,13 @@ def analyze(
         x, r = channel(ds, ch)
         series[ch], rates[ch] = x, _rate(t, x, r)
     idx = st.strobe(t.size)
-    steady = np.arange(idx[0], t.size)
+    steady = np.arange(idx[0], idx[-1])  # whole periods (the spectra's lines on bins)
     P = np.column_stack([series[ch][idx] for ch in chans])
-    scale = np.array([np.ptp(series[ch][steady]) or 1.0 for ch in chans])
+    scale = np.array([_scale(series[ch][steady]) for ch in chans])
     # the 0-1 test on the channel whose points spread most relative to its range
     spread = int(np.argmax(np.ptp(P / scale, axis=0)))
-    K = zero_one_test(P[:, spread]).K if P.shape[0] >= 100 else None
+    recur = np.max(np.ptp(P / scale, axis=0)) <= tol  # (a fixed point's noise reads as chaos)
+    K = zero_one_test(P[:, spread]).K if P.shape[0] >= 100 and not recur else None
     lyap = None
     # Rosenstein's estimate needs many mean periods of data (its Theiler window and
     # horizon are several of them): only from 50 periods on
@@ -342,6 +344,15 @@ def analyze(
             lyap = rosenstein(series[chans[0]][steady], float(t[1] - t[0]))
         except ModelError:
             lyap = None
+    # the run's own two-trajectory exponent ([steady_state] lyapunov_periods), if any
+    benettin = None
+    if "lyapunov_exponent" in attrs:
+        benettin = LyapunovEstimate(
+            float(attrs["lyapunov_exponent"]),
+            float(attrs.get("lyapunov_standard_error", np.nan)),
+            np.zeros(0),
+            np.zeros(0),
+        )
     dt = float(t[1] - t[0])
     peaks, spectra = {}, {}
     for ch in chans:
@@ -359,7 +370,27 @@ def analyze(
         peaks=peaks.get(chans[0], ()),
         drive_frequency=1.0 / st.period,
         zero_one=K if K is not None else None,
+        lyapunov=benettin,
     )
+    if lyap is not None and not lyap.diverges:
+        cls = dataclasses.replace(
+            cls,
+            reasons=(
+                *cls.reasons,
+                "Rosenstein: no exponential divergence (the neighbours' separation grows "
+                "less than 10x)",
+            ),
+        )
+    ok = attrs.get("success", 1)
+    if not (ok is True or (isinstance(ok, (int, np.integer)) and ok)):
+        cls = dataclasses.replace(
+            cls,
+            kind="undetermined",
+            reasons=(
+                f"the run stopped early ({attrs.get('message', '')}): not a steady state",
+                *cls.reasons,
+            ),
+        )
     sec = None
     if section is None and "section_time" in ds.data_vars and ds.sizes.get("crossing", 0):
         sec = _file_section(ds, chans, t, series, rates, steady[0])
@@ -377,7 +408,8 @@ def analyze(
             others={ch: (series[ch][steady], rates[ch][steady]) for ch in chans},
         )
         sec = {
-            "spec": f"{spec} = {value:g} ({'+-'[direction < 0]})",
+            "spec": f"{spec} = {value:g}, "
+            + ("both ways" if direction == 0 else ("upward", "downward")[direction < 0]),
             "times": times,
             "values": vals,
         }
@@ -416,6 +448,14 @@ def save_analysis(path: str | Path, analysis: Analysis, *, attrs: Mapping | None
     return save_results(path, {"analysis": analysis.to_dataset()}, attrs=attrs)
 
 
+def _scale(x: np.ndarray) -> float:
+    """A channel's scale for the recurrence test: its range over the steady part, at least
+    1e-6 of its magnitude (the integration noise of the default rtol: a channel that
+    varies less is taken as constant, not as a scatter of distinct points)."""
+    x = np.asarray(x, dtype=float)
+    return max(float(np.ptp(x)), 1e-6 * float(np.max(np.abs(x))), 1e-300)
+
+
 def response_of_run(r, steady: Steady, platform: str, *, tol: float = 1e-3, lyapunov=None) -> dict:
     """The classification of a run's steady state (a `Result` on a steady grid): the
     stroboscopic points of the platform's position and of every clearance joint's
@@ -430,8 +470,7 @@ def response_of_run(r, steady: Steady, platform: str, *, tol: float = 1e-3, lyap
     cols = [r.position(platform)]
     cols += [r.eccentricity(name) for name in r.clearance_names]
     X = np.column_stack(cols)
-    scale = np.ptp(X[idx[0] :], axis=0)
-    scale[scale == 0] = 1.0
+    scale = np.array([_scale(X[idx[0] :, k]) for k in range(X.shape[1])])
     c = classify(
         X[idx] / scale,
         tol=tol,

@@ -39,7 +39,10 @@ class Trajectory(Protocol):
     advance(tau): integrate from (t, y) over tau seconds (in place);
     place(y): set the state (same t), made consistent (constraints, contact state) if the
         system has such conditions; returns the state actually set;
-    distance_state(): the coordinates the separation is measured in (1-D array)."""
+    distance_state(): the coordinates the separation is measured in (1-D array);
+    optionally adopt(reference): after each `place`, take the reference's discrete state
+        (a mechanism's contact flags and latched impact velocities), so that the pulled-back
+        copy differs from the reference by d0 in every part of its state."""
 
     t: float
     y: np.ndarray
@@ -134,8 +137,13 @@ def largest_lyapunov(
     as long as d0 stays small against the gap dynamics (the exponent is then that of the
     compliant-contact model). d0 should be far above the integration error (rtol |y|) and
     far below the attractor's size."""
-    if not (isinstance(intervals, (int, np.integer)) and intervals >= 2):
-        raise ModelError("largest_lyapunov", "intervals", intervals, "expected an integer >= 2")
+    if not (isinstance(intervals, (int, np.integer)) and intervals >= 10):
+        raise ModelError(
+            "largest_lyapunov",
+            "intervals",
+            intervals,
+            "expected an integer >= 10 (the standard error comes from 10 blocks of them)",
+        )
     if not (isinstance(transient_intervals, (int, np.integer)) and transient_intervals >= 0):
         raise ModelError(
             "largest_lyapunov", "transient_intervals", transient_intervals, "expected >= 0"
@@ -179,7 +187,7 @@ def largest_lyapunov(
     logs = np.asarray(logs)
     running = np.cumsum(logs) / (interval * np.arange(1, logs.size + 1))
     lam = float(running[-1])
-    nb = 10 if logs.size >= 20 else 2
+    nb = 10
     blocks = np.array([b.mean() for b in np.array_split(logs, nb)]) / interval
     se = float(blocks.std(ddof=1) / math.sqrt(nb))
     return LyapunovEstimate(lam, se, running, np.asarray(times), float(d0), int(logs.size))
@@ -189,6 +197,9 @@ def _renormalise(reference, perturbed, y: np.ndarray, d0: float, a: np.ndarray) 
     """Place the perturbed state y and return its separation from the reference (in
     distance coordinates), which the consistency conditions may have changed from d0."""
     perturbed.place(y)
+    adopt = getattr(perturbed, "adopt", None)  # a discrete state taken from the reference
+    if adopt is not None:
+        adopt(reference)
     sep = float(np.linalg.norm(perturbed.distance_state() - a))
     if not (sep > 0.01 * d0):
         raise ModelError(
@@ -224,7 +235,9 @@ def _mean_period(x: np.ndarray) -> float:
 @dataclass(frozen=True)
 class Divergence:
     """Rosenstein's estimate: exponent [1/s], the divergence curve <ln d(i)> against
-    i dt, the fitted range (start, stop) in samples, and the embedding used."""
+    i dt, the fitted range (start, stop) in samples, the embedding used, and whether the
+    curve rises by more than ln 10 at all (else there is no exponential divergence to fit:
+    a regular signal; the slope is then not an exponent)."""
 
     exponent: float
     time: np.ndarray = field(repr=False)
@@ -233,6 +246,7 @@ class Divergence:
     dimension: int = 0
     lag: int = 0
     theiler: int = 0
+    diverges: bool = True  # the neighbours' separation grows > 10x over the horizon
 
     def __float__(self) -> float:
         return self.exponent
@@ -247,20 +261,25 @@ def rosenstein(
     theiler: int | None = None,
     horizon: int | None = None,
     fit: tuple | None = None,
+    max_points: int = 20_000,
 ) -> Divergence:
     """Largest Lyapunov exponent [1/s] of a scalar time series by delay embedding
     (Rosenstein, Collins & De Luca, Physica D 65:117-134, 1993): embed in `dimension`
     with delay `lag` samples (default: where the autocorrelation falls below 1 - 1/e), pair
     each point with its nearest neighbour at least `theiler` samples apart in time (default:
     the mean period from the power spectrum), average ln of the pairs' separation over
-    `horizon` samples ahead and fit a line over the `fit` range of that curve (default: its
-    initial linear rise, from 0 to the first point within 10 % of its plateau... as
-    (start, stop) samples). The method is biased low on short or noisy series and high for
-    too small an embedding; Rosenstein's Table reports it within a few per cent for the
-    Lorenz system with 5000 points."""
+    `horizon` samples ahead and fit a line over the `fit` range of that curve (default:
+    from 10 % to 70 % of its rise, as (start, stop) samples). The method is biased low on
+    short or noisy series and high for too small an embedding; Rosenstein's Table reports
+    it within a few per cent for the Lorenz system with 5000 points. A series longer than
+    max_points is decimated to at most that many samples (the neighbour search holds all
+    pairs of the k nearest: memory grows with the length)."""
     a = np.asarray(x, dtype=float)
     if a.ndim != 1 or a.size < 100 or not np.all(np.isfinite(a)):
         raise ModelError("rosenstein", "x", a.shape, "expected >= 100 finite samples")
+    if a.size > max_points:
+        k = -(-a.size // max_points)
+        a, dt = a[::k], dt * k
     if not (isinstance(dimension, (int, np.integer)) and dimension >= 1):
         raise ModelError("rosenstein", "dimension", dimension, "expected an integer >= 1")
     J = _autocorrelation_lag(a) if lag is None else int(lag)
@@ -293,17 +312,21 @@ def rosenstein(
         dd = np.linalg.norm(X[i0[valid] + h] - X[nn[valid] + h], axis=1)
         dd = dd[dd > 0]
         curve[h] = np.log(dd).mean()
+    rise = float(curve.max() - curve[0])
     if fit is None:
-        lo, hi = curve[0], curve.max()
-        stop = int(np.argmax(curve >= lo + 0.7 * (hi - lo)))
-        start = min(1, max(stop - 2, 0))
-        fit = (start, max(stop, start + 3))
+        # the linear region: from 10 % to 70 % of the curve's rise (the first samples are
+        # biased low by choosing the nearest neighbour; the end is the plateau)
+        start = int(np.argmax(curve >= curve[0] + 0.1 * rise))
+        stop = int(np.argmax(curve >= curve[0] + 0.7 * rise))
+        stop = min(max(stop, start + 3), H)
+        start = min(start, stop - 3)
+        fit = (start, stop)
     s0, s1 = int(fit[0]), int(fit[1])
     if not 0 <= s0 < s1 - 1 <= H - 1:
         raise ModelError("rosenstein", "fit", fit, f"expected 0 <= start < stop - 1 < {H}")
     tt = dt * np.arange(H)
     slope = float(np.polyfit(tt[s0:s1], curve[s0:s1], 1)[0])
-    return Divergence(slope, tt, curve, (s0, s1), int(dimension), J, W)
+    return Divergence(slope, tt, curve, (s0, s1), int(dimension), J, W, rise >= math.log(10.0))
 
 
 @dataclass(frozen=True)

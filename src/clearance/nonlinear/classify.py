@@ -66,7 +66,8 @@ def classify(
     3. an exponent negative by more than 3 standard errors -> "undetermined": an attracting
        orbit not reached yet (discard more transient periods);
     4. K < 0.2, or an exponent within 3 standard errors of 0 with those below 5 % of the
-       drive frequency -> "quasi-periodic";
+       drive frequency -> "quasi-periodic", unless the points still converge (their last
+       quarter spreads less than half as much as their first: "undetermined", a transient);
     5. else "undetermined" (run longer).
     zero_one: True to run the 0-1 test on >= 100 points, on the coordinate whose points
     spread most (scale the coordinates comparably), a number to use a K computed
@@ -81,7 +82,9 @@ def classify(
     nd = distinct_points(P, tol=tol)
     reasons = [f"{nd} distinct Poincare point(s) among {n} (tolerance {tol:.3g})"]
     K = None
-    if zero_one is True and n >= 100:
+    if period is not None:
+        pass  # (recurrence decides; the 0-1 test of a fixed point's noise says nothing)
+    elif zero_one is True and n >= 100:
         # on the coordinate whose points spread most (the one that does not recur; one at
         # the level of the integration noise would look chaotic to the test)
         K = zero_one_test(P[:, int(np.argmax(np.ptp(P, axis=0)))]).K
@@ -115,11 +118,21 @@ def classify(
         kind = "chaotic"
         if K is not None and K < K_REGULAR:
             reasons.append("but the 0-1 test says regular")
+        if not lam_pos:
+            reasons.append(
+                "by the 0-1 test alone: a slowly drifting transient reads the same; confirm "
+                "with the Lyapunov exponent"
+            )
     elif lam_neg:
         kind = "undetermined"
         reasons.append(
             "the exponent is negative (an attracting orbit) but the points do not recur yet: "
             "discard more transient periods"
+        )
+    elif ((K is not None and K < K_REGULAR) or lam_zero) and _settling(P):
+        kind = "undetermined"
+        reasons.append(
+            "regular but the points still converge (a transient): discard more transient periods"
         )
     elif (K is not None and K < K_REGULAR) or lam_zero:
         kind = "quasi-periodic"
@@ -138,3 +151,12 @@ def classify(
         drive_frequency,
         tuple(reasons),
     )
+
+
+def _settling(P: np.ndarray) -> bool:
+    """The points of the coordinate that spreads most converge: the spread of its last
+    quarter is below half that of its first (a spiral into a fixed point, not a closed
+    invariant curve, whose quarters spread alike)."""
+    x = P[:, int(np.argmax(np.ptp(P, axis=0)))]
+    q = max(2, x.size // 4)
+    return bool(np.ptp(x[-q:]) < 0.5 * np.ptp(x[:q]))

@@ -99,7 +99,7 @@ def steady_state(
     for k in ("t_out", "dt_out", "t_end"):
         if k in simulate_options:
             raise ModelError(who, k, simulate_options[k], "set by period and samples_per_period")
-    ip = int(round(phase * m)) % m
+    ip = int(round(phase * m)) % m  # (0.999 of a period on a grid of 40: the next 0)
     k = np.arange(n * m + 1)
     t_out = t_start + T * (k / m)  # k / m is exact for k = j m: the strobe times are exact
     r = simulate(system, float(t_out[-1]), t_start=t_start, t_out=t_out, **simulate_options)
@@ -113,9 +113,11 @@ class MechanismTrajectory:
     (the `Trajectory` protocol of `clearance.nonlinear.chaos`): the state, the contact state
     (flags and latched impact velocities) and the time are carried from one `advance` to
     the next; `place` assembles a state onto the constraint manifold (positions, then
-    velocities) at the current time. The separation is measured in the positions,
-    velocities and friction states, scaled by `scale` (per coordinate; default 1), not
-    in the work integrals."""
+    velocities) at the current time, its quaternions normalised; `adopt(other)` takes the
+    other trajectory's contact state. The separation is measured in the positions and
+    velocities, scaled by `scale` (per coordinate; default 1): not in the friction states
+    (a bristle state does not move out of contact, and its normal part not in contact:
+    neutral directions that held the estimate at 0) nor in the work integrals."""
 
     def __init__(
         self,
@@ -140,7 +142,7 @@ class MechanismTrajectory:
         self.rtol, self.atol, self.hmax = float(rtol), float(atol), float(max_step)
         self.wk = make_work(c.model)
         self.cs = make_contact_state(c.model)
-        n = c.layout.iw
+        n = c.layout.iz
         self.scale = np.ones(n) if scale is None else np.asarray(scale, dtype=float)
         if self.scale.shape != (n,) or not np.all(self.scale > 0):
             raise ModelError(
@@ -183,14 +185,22 @@ class MechanismTrajectory:
 
     def place(self, y: np.ndarray) -> np.ndarray:
         y = np.array(y, dtype=float)
+        p = y[: 7 * self.c.nb].reshape(-1, 7)[:, 3:]
+        p /= np.linalg.norm(p, axis=1)[:, None]  # (a view: normalised in y)
         if self.c.nrow:
             y = assemble(self.c, y, t=self.t)
             y = velocity_analysis(self.c, y, t=self.t)
         self.y = y
         return y
 
+    def adopt(self, other: MechanismTrajectory) -> None:
+        """Take the other trajectory's contact flags and latched impact velocities (a
+        pulled-back copy within d0 of it: its own could be far off)."""
+        self.cs.flag[:] = other.cs.flag
+        self.cs.ddm[:] = other.cs.ddm
+
     def distance_state(self) -> np.ndarray:
-        return self.y[: self.c.layout.iw] / self.scale
+        return self.y[: self.c.layout.iz] / self.scale
 
 
 def mechanism_lyapunov(
@@ -219,7 +229,7 @@ def mechanism_lyapunov(
     pert = MechanismTrajectory(c, y, t_start, scale=scale, **options)
     rng = np.random.default_rng(seed)
     u = np.zeros(c.ny)
-    u[: c.layout.iw] = rng.standard_normal(c.layout.iw) * ref.scale
+    u[: c.layout.iz] = rng.standard_normal(c.layout.iz) * ref.scale  # positions, velocities
     return largest_lyapunov(
         ref,
         pert,

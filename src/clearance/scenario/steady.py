@@ -166,12 +166,21 @@ def parse_steady_state(t: dict, trajectory, solver, general_own: bool, problems:
         sec = _section(sec, problems)
         if sec is None:
             return None, solver
+    nl = kw["lyapunov_periods"] * kw["lyapunov_intervals"]
+    if 0 < nl < 10:
+        problems.add(
+            "steady_state.lyapunov_periods",
+            kw["lyapunov_periods"],
+            "expected lyapunov_periods x lyapunov_intervals >= 10 renormalisations (the "
+            "exponent's standard error comes from 10 blocks of them), or 0 for none",
+        )
+        return None, solver
     spec = SteadyStateSpec(
         float(period),
         periods,
         ntr,
         m,
-        round(phase * m) / m,
+        (round(phase * m) % m) / m,  # (0.999 on a grid of 40: the next period's 0)
         kw["lyapunov_periods"],
         kw["lyapunov_intervals"],
         sec,

@@ -177,7 +177,6 @@ def _continue(st: Study, pname: str, folder: Path, progress) -> Any:
     """Run the unfinished cases in the study's order, each from the previous one's end."""
     import time
 
-    from clearance.io.dataset import load_results
     from clearance.sweep.run import StudyReport, _task, start_case
     from clearance.sweep.store import prepare_folder
 
@@ -190,7 +189,7 @@ def _continue(st: Study, pname: str, folder: Path, progress) -> Any:
         nc, _ = case_files(folder, c.id)
         if is_finished(folder, c):
             rep.skipped.append(c.id)
-            start = np.asarray(load_results(nc).attrs.get("clearance_final_state"), dtype=float)
+            start = _end_state(nc, st)
             continue
         task = _task(st, c, folder, None)
         if start is not None and start.ndim == 1 and start.size:
@@ -202,11 +201,31 @@ def _continue(st: Study, pname: str, folder: Path, progress) -> Any:
             say(f"{c.id} failed: {side.get('reason', '')}; the branch stops here")
             break
         rep.finished.append(c.id)
-        start = np.asarray(load_results(nc).attrs["clearance_final_state"], dtype=float)
         src = "the previous case's end" if "start_state" in task else "the scenario's start"
         say(f"[{len(rep.skipped) + len(rep.finished)}/{len(st.cases)}] {c.label()} from {src}")
+        start = _end_state(nc, st)
+        if start is None:
+            say(f"  {c.id} stopped early: the next case starts as the scenario says")
     rep.wall_time = time.perf_counter() - t0
     return rep
+
+
+def _end_state(nc: Path, st: Study) -> np.ndarray | None:
+    """The clearance run's final state of a finished case, or None when the run stopped
+    early or not after whole periods (the drive's phase would not match)."""
+    from clearance.io.dataset import load_results
+
+    rf = load_results(nc)
+    a = rf.attrs
+    y = a.get("clearance_final_state")
+    T = a.get("steady_period")
+    t_end = float(a.get("clearance_final_time", 0.0))
+    ok = rf["clearance"].attrs.get("success", 0)
+    if y is None or T is None or not ok:
+        return None
+    if abs(t_end / float(T) - round(t_end / float(T))) > 1e-6 or t_end <= 0:
+        return None
+    return np.asarray(y, dtype=float)
 
 
 def _write(out_dir: Path, out: BifurcationOutput, chans, strobes, rows, figure) -> list[Path]:
