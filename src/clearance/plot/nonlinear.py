@@ -71,10 +71,13 @@ def poincare_figure(a: Analysis) -> Figure:
             ax.plot(x, y, ".", ms=3, color="C3")
             ax.set_xlabel(c1)
             ax.set_ylabel(rate_name(c1) if c2 is None else c2)
-            ax.ticklabel_format(style="sci", scilimits=(-3, 3), useOffset=False)
+            ax.ticklabel_format(style="sci", scilimits=(-3, 3))
         for ax in axs[n:]:
             ax.set_visible(False)
-        fig.suptitle(f"Poincare maps (once per {a.steady.period:g} s): {a.classification}")
+        fig.suptitle(
+            f"Poincare maps (once per {a.steady.period:g} s): {a.classification.kind}, "
+            f"{a.classification.distinct} distinct of {a.classification.points} points"
+        )
     return fig
 
 
@@ -165,7 +168,7 @@ def bifurcation_figure(
             ax.plot(np.full(pts.size, p), pts, ".", ms=1.5, color="k")
         ax.set_xlabel(parameter_name)
         ax.set_ylabel(f"{channel} (Poincare)")
-        ax.ticklabel_format(style="sci", scilimits=(-3, 3), useOffset=False)
+        ax.ticklabel_format(style="sci", scilimits=(-3, 3))
         if kinds is not None:
             for p, k in zip(parameter, kinds, strict=True):
                 ax.annotate(
