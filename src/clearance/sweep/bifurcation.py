@@ -117,7 +117,7 @@ def bifurcation(
         pname = check_bifurcation_study(st)
         fold = Path(folder).expanduser().resolve() if folder is not None else st.folder
         if run and continuation:
-            report = _continue(st, pname, fold, progress)
+            report = _continue(st, fold, progress)
         elif run:
             report = run_study(
                 st, scheduler=scheduler, n_workers=n_workers, progress=progress, folder=fold
@@ -173,7 +173,7 @@ def bifurcation(
     return out
 
 
-def _continue(st: Study, pname: str, folder: Path, progress) -> Any:
+def _continue(st: Study, folder: Path, progress) -> Any:
     """Run the unfinished cases in the study's order, each from the previous one's end."""
     import time
 
@@ -189,13 +189,16 @@ def _continue(st: Study, pname: str, folder: Path, progress) -> Any:
         nc, _ = case_files(folder, c.id)
         if is_finished(folder, c):
             rep.skipped.append(c.id)
-            start = _end_state(nc, st)
+            start = _end_state(nc)
             continue
         task = _task(st, c, folder, None)
         if start is not None and start.ndim == 1 and start.size:
             task["start_state"] = start.tolist()
         rep.submitted.append(c.id)
-        side = start_case(task)()
+        try:
+            side = start_case(task)()
+        except Exception as e:  # (recorded in the case's sidecar by start_case)
+            side = {"status": "failed", "reason": f"{type(e).__name__}: {e}"}
         if side.get("status") != "finished":
             rep.failed[c.id] = str(side.get("reason", ""))
             say(f"{c.id} failed: {side.get('reason', '')}; the branch stops here")
@@ -203,14 +206,14 @@ def _continue(st: Study, pname: str, folder: Path, progress) -> Any:
         rep.finished.append(c.id)
         src = "the previous case's end" if "start_state" in task else "the scenario's start"
         say(f"[{len(rep.skipped) + len(rep.finished)}/{len(st.cases)}] {c.label()} from {src}")
-        start = _end_state(nc, st)
+        start = _end_state(nc)
         if start is None:
             say(f"  {c.id} stopped early: the next case starts as the scenario says")
     rep.wall_time = time.perf_counter() - t0
     return rep
 
 
-def _end_state(nc: Path, st: Study) -> np.ndarray | None:
+def _end_state(nc: Path) -> np.ndarray | None:
     """The clearance run's final state of a finished case, or None when the run stopped
     early or not after whole periods (the drive's phase would not match)."""
     from clearance.io.dataset import load_results
