@@ -369,3 +369,14 @@ def test_general_scenario_with_steady_state_and_lyapunov_in_the_summary(tmp_path
     bad = IMPACT_OSCILLATOR.replace("period = 0.25132741228718345", "")
     with pytest.raises(ScenarioError, match=r"steady_state.period.*required"):
         scenario_from_dict(tomllib.loads(bad))
+
+
+def test_a_section_of_an_unknown_body_is_refused_before_the_run(tmp_path):
+    from clearance.pipeline import run_scenario
+
+    d = _base()
+    d["steady_state"]["section"] = {"body": "plattform", "coordinate": "vz"}
+    d["output"] = {**d["output"], "folder": str(tmp_path / "res")}
+    with pytest.raises(ScenarioError, match=r"steady_state.section.body.*'platform'"):
+        run_scenario(scenario_from_dict(d, source="s.toml"), log=None, figures=False)
+    assert not (tmp_path / "res" / "ups_upu.nc").exists()

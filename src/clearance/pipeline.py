@@ -939,6 +939,17 @@ def run_scenario(
     # compile need it before the IK; with reused drives it is also the model that runs
     c_clr = compile_mechanism(clr)
     _fits_in_memory(c_clr, info, s)  # before the inverse kinematics, not after
+    sec = s.steady_state.section_spec() if s.steady_state is not None else None
+    if sec is not None:  # (its body is known once the mechanism is built)
+        try:
+            sec.weights_for(c_clr)
+        except ModelError as e:
+            from clearance.scenario.errors import ScenarioError
+
+            raise ScenarioError(
+                str(s.source), "steady_state.section.body", sec.body, e.allowed
+            ) from None
+
     skw = info.simulate_kwargs
     cold = ColdCompile(c_clr, resolve_method(skw["method"], skw.get("rtol", 1e-6)))
     if memo is not None:
@@ -1061,7 +1072,6 @@ def run_scenario(
                     y_start = place_balls_along_reaction(
                         clr, start_ref, y_start, info.clearance_joints
                     )
-            sec = s.steady_state.section_spec() if s.steady_state is not None else None
             r_clr = watched("clearance", cc, y0=y_start, section=sec)
     except Interrupted as e:  # Ctrl-C: keep what was computed, stop the ideal run too
         stop.set()
