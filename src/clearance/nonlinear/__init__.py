@@ -26,8 +26,11 @@ from clearance.nonlinear.mechanism import (
 from clearance.nonlinear.poincare import (
     distinct_points,
     ode_stroboscopic,
+    periodic_grid,
     recurrence_period,
     section_crossings,
+    spline_rate,
+    strobe_indices,
 )
 from clearance.nonlinear.spectra import (
     Peak,
@@ -56,11 +59,14 @@ __all__ = [
     "largest_lyapunov",
     "mechanism_lyapunov",
     "ode_stroboscopic",
+    "periodic_grid",
     "power_spectral_density",
     "recurrence_period",
     "rosenstein",
     "section_crossings",
     "spectrogram",
+    "spline_rate",
     "steady_state",
+    "strobe_indices",
     "zero_one_test",
 ]

@@ -28,9 +28,14 @@ import numpy as np
 import xarray as xr
 
 from clearance.model.errors import ModelError
-from clearance.nonlinear.chaos import LyapunovEstimate, rosenstein, zero_one_test
+from clearance.nonlinear.chaos import LyapunovEstimate, rosenstein
 from clearance.nonlinear.classify import Classification, classify
-from clearance.nonlinear.poincare import _hermite, section_crossings
+from clearance.nonlinear.poincare import (
+    _hermite,
+    section_crossings,
+    spline_rate,
+    strobe_indices,
+)
 from clearance.nonlinear.spectra import (
     amplitude_spectrum,
     dominant_frequencies,
@@ -94,11 +99,7 @@ def channel(ds: xr.Dataset, spec: str) -> tuple[np.ndarray, np.ndarray | None]:
 
 
 def _rate(t: np.ndarray, x: np.ndarray, rate: np.ndarray | None) -> np.ndarray:
-    if rate is not None:
-        return rate
-    from scipy.interpolate import CubicSpline
-
-    return CubicSpline(t, x)(t, 1)
+    return rate if rate is not None else spline_rate(t, x)
 
 
 def rate_name(spec: str) -> str:
@@ -135,8 +136,7 @@ class Steady:
     source: str = "file"
 
     def strobe(self, n: int) -> np.ndarray:
-        m = self.samples_per_period
-        return np.arange(self.transient_periods * m + int(round(self.phase * m)), n, m)
+        return strobe_indices(n, self.samples_per_period, self.transient_periods, self.phase)
 
 
 def steady_of(
@@ -332,10 +332,6 @@ def analyze(
     steady = np.arange(idx[0], idx[-1])  # whole periods (the spectra's lines on bins)
     P = np.column_stack([series[ch][idx] for ch in chans])
     scale = np.array([_scale(series[ch][steady]) for ch in chans])
-    # the 0-1 test on the channel whose points spread most relative to its range
-    spread = int(np.argmax(np.ptp(P / scale, axis=0)))
-    recur = np.max(np.ptp(P / scale, axis=0)) <= tol  # (a fixed point's noise reads as chaos)
-    K = zero_one_test(P[:, spread]).K if P.shape[0] >= 100 and not recur else None
     lyap = None
     # Rosenstein's estimate needs many mean periods of data (its Theiler window and
     # horizon are several of them): only from 50 periods on
@@ -369,9 +365,10 @@ def analyze(
         max_period=max_period,
         peaks=peaks.get(chans[0], ()),
         drive_frequency=1.0 / st.period,
-        zero_one=K if K is not None else None,
+        zero_one=True,  # (>= 100 points, on the most spreading channel, unless they recur)
         lyapunov=benettin,
     )
+    K = cls.zero_one
     if lyap is not None and not lyap.diverges:
         cls = dataclasses.replace(
             cls,

@@ -27,6 +27,7 @@ from clearance.kinds import STATUS_MESSAGE, Status
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
 from clearance.nonlinear.chaos import LyapunovEstimate, largest_lyapunov
+from clearance.nonlinear.poincare import periodic_grid, strobe_indices
 from clearance.store.result import Result
 
 __all__ = ["MechanismTrajectory", "SteadyState", "mechanism_lyapunov", "steady_state"]
@@ -99,13 +100,11 @@ def steady_state(
     for k in ("t_out", "dt_out", "t_end"):
         if k in simulate_options:
             raise ModelError(who, k, simulate_options[k], "set by period and samples_per_period")
-    ip = int(round(phase * m)) % m  # (0.999 of a period on a grid of 40: the next 0)
-    k = np.arange(n * m + 1)
-    t_out = t_start + T * (k / m)  # k / m is exact for k = j m: the strobe times are exact
+    t_out = periodic_grid(T, n, m, t_start)
     r = simulate(system, float(t_out[-1]), t_start=t_start, t_out=t_out, **simulate_options)
-    idx = np.arange(ntr * m + ip, n * m + 1, m)
-    idx = idx[idx < r.t.size]  # a failed run keeps what it computed
-    return SteadyState(r, T, n, ntr, m, ip / m, idx)
+    # (a failed run keeps what it computed: its samples only)
+    idx = strobe_indices(r.t.size, m, ntr, phase)
+    return SteadyState(r, T, n, ntr, m, (int(round(phase * m)) % m) / m, idx)
 
 
 class MechanismTrajectory:

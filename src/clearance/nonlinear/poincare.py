@@ -22,9 +22,40 @@ from clearance.model.errors import ModelError
 __all__ = [
     "distinct_points",
     "ode_stroboscopic",
+    "periodic_grid",
     "recurrence_period",
     "section_crossings",
+    "spline_rate",
+    "strobe_indices",
 ]
+
+
+def periodic_grid(
+    period: float, periods: int, samples_per_period: int, t_start: float = 0.0
+) -> np.ndarray:
+    """The output grid of a steady-state run: t_start + period k / m, k = 0 .. periods m.
+    k / m is exact for k = j m, so the stroboscopic times t_start + j period are grid
+    points computed exactly (their samples are the dense output at exactly those times)."""
+    m = samples_per_period
+    return t_start + period * (np.arange(periods * m + 1) / m)
+
+
+def strobe_indices(
+    n: int, samples_per_period: int, transient_periods: int = 0, phase: float = 0.0
+) -> np.ndarray:
+    """Indices of the stroboscopic samples, once per period at `phase` (a fraction of the
+    period, rounded to the grid and wrapped: 0.999 on a grid of 40 is the next period's 0),
+    after `transient_periods`, among the first n samples of `periodic_grid`."""
+    m = samples_per_period
+    return np.arange(transient_periods * m + int(round(phase * m)) % m, n, m)
+
+
+def spline_rate(t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """dx/dt at the samples: the derivative of the not-a-knot cubic spline through them
+    (for a channel whose rate the run does not have)."""
+    from scipy.interpolate import CubicSpline
+
+    return CubicSpline(t, x)(t, 1)
 
 
 def _hermite(h, x0, x1, d0, d1, s):
@@ -60,9 +91,7 @@ def section_crossings(
     if direction not in (-1, 0, 1):
         raise ModelError("section_crossings", "direction", direction, "allowed: -1, 0, 1")
     if xdot is None:
-        from scipy.interpolate import CubicSpline
-
-        xdot = CubicSpline(t, x)(t, 1)
+        xdot = spline_rate(t, x)
     g = x - value
     s0, s1 = g[:-1], g[1:]
     up = (s0 < 0) & (s1 >= 0)

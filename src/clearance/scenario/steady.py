@@ -70,16 +70,17 @@ class SteadyStateSpec:
         return Section(**self.section)
 
     def t_out(self, t_start: float = 0.0) -> np.ndarray:
-        """The output grid t_start + period k / m, k = 0 .. periods m: the stroboscopic
-        times t_start + (j + phase) period are grid points, computed exactly."""
-        m = self.samples_per_period
-        return t_start + self.period * (np.arange(self.periods * m + 1) / m)
+        """The output grid (`clearance.nonlinear.periodic_grid`): the stroboscopic times
+        t_start + (j + phase) period are grid points, computed exactly."""
+        from clearance.nonlinear.poincare import periodic_grid
+
+        return periodic_grid(self.period, self.periods, self.samples_per_period, t_start)
 
     def strobe_indices(self, n: int) -> np.ndarray:
         """Indices of the stroboscopic samples after the transient among n samples."""
-        m = self.samples_per_period
-        i0 = self.transient_periods * m + int(round(self.phase * m))
-        return np.arange(i0, n, m)
+        from clearance.nonlinear.poincare import strobe_indices
+
+        return strobe_indices(n, self.samples_per_period, self.transient_periods, self.phase)
 
     def attrs(self) -> dict:
         """The file attributes `clearance analyze` reads (steady_*)."""
