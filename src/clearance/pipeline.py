@@ -36,7 +36,6 @@ from clearance.model.clearance import Clearance
 from clearance.model.drivers import OffsetDriver
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
-from clearance.nonlinear.analyze import Steady, response_of_run
 from clearance.parallel import ParallelMechanism
 from clearance.scenario import build_mechanisms, load_scenario, scenario_to_toml
 from clearance.scenario.build import with_clearances
@@ -1105,6 +1104,9 @@ def run_scenario(
     with timer("summary"):
         if s.steady_state is not None and info.platform_body and r_clr.success:
             st = s.steady_state
+            # (imported here: scipy.signal and xarray cost `clearance run` 0.8 s of start-up)
+            from clearance.nonlinear.analyze import Steady, response_of_run
+
             grid = Steady(st.period, st.samples_per_period, st.transient_periods, st.phase)
             summary["steady_state"] = response_of_run(r_clr, grid, info.platform_body, lyapunov=lam)
     write = functools.partial(
