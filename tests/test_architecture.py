@@ -36,6 +36,7 @@ LAYERS = [
     {"mechanisms"},  # ready-made mechanisms
     {"scenario"},  # scenario files
     {"plot"},
+    {"view"},  # the 3-D viewer and videos (from result files)
     {"pipeline"},
     {"sweep"},
     {"cli"},
@@ -63,6 +64,7 @@ NOT_FROM_CORE = {
     "mechanisms",
     "parallel",
     "nonlinear",
+    "view",
 }
 KERNELS = {"kinematics", "constraints", "contact", "dynamics", "integrate", "compile"}
 

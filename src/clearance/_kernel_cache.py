@@ -43,6 +43,7 @@ _NO_KERNELS = (
     "scenario",
     "store",
     "sweep",
+    "view",
 )
 
 

@@ -949,6 +949,17 @@ def run_scenario(
                 str(s.source), "steady_state.section.body", sec.body, e.allowed
             ) from None
 
+    unknown = [b for b in s.view.bodies if b not in c_clr.body_names]
+    if unknown:  # [view.bodies.X]: X must be a body of the mechanism
+        from clearance.scenario.errors import ScenarioError
+
+        raise ScenarioError(
+            str(s.source),
+            f"view.bodies.{unknown[0]}",
+            unknown[0],
+            f"expected a body of the mechanism: {', '.join(c_clr.body_names)}",
+        )
+
     skw = info.simulate_kwargs
     cold = ColdCompile(c_clr, resolve_method(skw["method"], skw.get("rtol", 1e-6)))
     if memo is not None:
@@ -1175,12 +1186,16 @@ def write_outputs(
 
     timer = timer if timer is not None else StageTimer()
     with timer("datasets"):
-        ds = {k: result_to_dataset(r, outputs=groups, bodies=(platform,)) for k, r in runs.items()}
+        ds = {
+            k: result_to_dataset(r, outputs=groups, bodies=(platform,), max_frames=s.view.frames)
+            for k, r in runs.items()
+        }
     root = {
         "scenario": scenario_to_toml(s),
         "scenario_name": s.name,
         "scenario_source": str(s.source),
         "clearance_version": clearance.__version__,
+        "view": json.dumps(s.view.to_dict()),
         **attrs,
     }
     pending = figure_error = None

@@ -462,6 +462,95 @@ def analyze(
 
 
 @app.command()
+def view(
+    result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
+    out: Path = typer.Option(
+        None, "-o", "--out", help="HTML file to write (default: RESULT with .html)"
+    ),
+    magnification: float = typer.Option(
+        None,
+        help="factor the clearances are drawn with (default: a round number that makes "
+        "the magnified clearance about 30 % of the socket radius)",
+    ),
+    runs: str = typer.Option(
+        None, help="runs to draw, comma-separated (default: all in the file, e.g. ideal,clearance)"
+    ),
+) -> None:
+    """A 3-D viewer of a result: one self-contained HTML file (no network needed) with the
+    mechanism in motion, each clearance joint magnified with its contact force and a
+    close-up, ideal and clearance runs overlaid or side by side."""
+    from clearance.view import SceneError
+    from clearance.view.html import write_viewer
+
+    if magnification is not None and not magnification > 0:
+        typer.echo(
+            f"error: --magnification = {magnification}: expected a positive number", err=True
+        )
+        raise typer.Exit(2)
+    names = [r.strip() for r in runs.split(",") if r.strip()] if runs else None
+    try:
+        path = write_viewer(result, out, magnification=magnification, runs=names)
+    except SceneError as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from None
+    except OSError as e:
+        typer.echo(f"error: {result}: not a clearance result file ({e})", err=True)
+        raise typer.Exit(2) from None
+    typer.echo(f"viewer: {path} ({path.stat().st_size / 1e6:.1f} MB); open it in a browser")
+
+
+@app.command()
+def animate(
+    result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
+    out: Path = typer.Option(
+        None, "-o", "--out", help="video to write, .mp4 or .gif (default: RESULT with .mp4)"
+    ),
+    fps: float = typer.Option(25.0, help="video frames per second"),
+    speed: float = typer.Option(
+        None, help="simulated seconds per video second (default: the whole run in 20 s)"
+    ),
+    size: str = typer.Option(None, help="WIDTHxHEIGHT in pixels (default 1280x720, GIF 800x450)"),
+    ideal: bool = typer.Option(True, "--ideal/--no-ideal", help="draw the ideal run as a ghost"),
+) -> None:
+    """The mechanism in motion as a video for talks (MP4 or GIF): the 3-D scene with a time
+    stamp and a close-up of each clearance joint. No display needed; ffmpeg comes with the
+    imageio-ffmpeg package."""
+    from clearance.view import SceneError
+    from clearance.view.video import render_video
+
+    wh = None
+    if size is not None:
+        try:
+            wh = tuple(int(x) for x in size.lower().split("x"))
+            if len(wh) != 2:
+                raise ValueError
+        except ValueError:
+            typer.echo(f"error: --size = {size!r}: expected WIDTHxHEIGHT, e.g. 1280x720", err=True)
+            raise typer.Exit(2) from None
+    step = [0]
+
+    def progress(i, n):
+        if i * 10 // n > step[0] or i == n:
+            step[0] = i * 10 // n
+            typer.echo(f"  frame {i}/{n}")
+
+    try:
+        info = render_video(
+            result, out, fps=fps, speed=speed, size=wh, ghost=ideal, progress=progress
+        )
+    except SceneError as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from None
+    except OSError as e:
+        typer.echo(f"error: {result}: not a clearance result file ({e})", err=True)
+        raise typer.Exit(2) from None
+    typer.echo(
+        f"video: {info.path} ({info.frames} frames, {info.duration:.1f} s at {info.fps:g} fps, "
+        f"{info.size[0]}x{info.size[1]}, {info.speed:g} x real time)"
+    )
+
+
+@app.command()
 def export(
     result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
     csv: bool = typer.Option(True, "--csv/--no-csv", help="write CSV tables"),
@@ -720,6 +809,8 @@ _FAST_EXIT = {
     "new",
     "draw",
     "warmup",
+    "view",
+    "animate",
 }
 
 

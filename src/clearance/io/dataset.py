@@ -25,6 +25,11 @@ per clearance joint (time, clearance[, axis])
     friction_force (on the ball, world) [N], slip_velocity [m/s], ball_centre [m],
     contact_flag [1], impact_velocity [m/s], dissipation_damping and dissipation_friction
     [J], bristle (LuGre z) [m]
+frames (frame, frame_body[, axis | quat]), the "frames" output group
+    frame_time [s], frame_sample (index into time), frame_position [m] and
+    frame_euler_parameters [1] of every body at the frames a viewer draws
+    (`clearance.io.frames`); the group's `geometry` attribute (JSON,
+    `clearance.io.geometry`) records the markers, joints and clearance joints to draw
 event log (event[, axis])
     event_time [s], event_clearance, event_joint, event_kind (+1 onset, -1 separation),
     event_penetration_rate [m/s], event_eccentricity [m]
@@ -51,6 +56,8 @@ import numpy as np
 import xarray as xr
 
 from clearance.io.files import atomic_path
+from clearance.io.frames import MAX_FRAMES, frame_samples
+from clearance.io.geometry import mechanism_geometry
 from clearance.io.outputs import ALL, OUTPUTS, check_outputs
 from clearance.layout import (
     CO_FN,
@@ -72,6 +79,7 @@ ENGINE = "netcdf4"  # the netCDF-C library: ~5x less per-variable overhead than 
 LAZY_BYTES = 256 * 2**20  # load_results opens larger files lazily
 CHUNK_SAMPLES = 4096  # samples per HDF5 chunk of a time history
 AXIS = ("x", "y", "z")
+_POINT_FORCE = next(c for c in POINT_COLUMNS if c.name == "point_contact_force")
 QUAT = ("e0", "e1", "e2", "e3")
 
 _ENERGY_NAMES = {
@@ -143,6 +151,7 @@ def result_to_dataset(
     attrs: Mapping | None = None,
     outputs: Iterable[str] | str = ALL,
     bodies: Sequence[str] | None = None,
+    max_frames: int = MAX_FRAMES,
 ) -> xr.Dataset:
     """Convert a `Result` into an `xarray.Dataset` (layout in the module docstring).
 
@@ -151,6 +160,7 @@ def result_to_dataset(
     outputs: the output groups to hold (`clearance.io.outputs`; "all", the default, is
     every group and every body); the dataset's `outputs` attribute lists them. bodies: the
     bodies of group "platform" (ignored when "bodies" is asked for; None: every body).
+    max_frames: the uniform part of the "frames" group (`clearance.io.frames`).
     """
     import clearance
 
@@ -228,6 +238,39 @@ def result_to_dataset(
                     tb, ab, "rad s-2", "angular acceleration", "body frame (omega'_dot)"
                 ),
             )
+    nclr = len(result.clearance_names)
+    ncp = len(result.contact_point_names)
+    co = result.contact if result.contact is not None else np.zeros((n, nclr, NCOUT))
+    po = result.contact_points if result.contact_points is not None else np.zeros((n, ncp, NPOUT))
+    cs = result.contact_state if result.contact_state is not None else np.zeros((n, ncp, 2))
+    ev = result.events if result.events is not None else np.zeros((0, NLOG))
+    if "frames" in groups:  # every body's pose at the frames a viewer draws
+        fk = frame_samples(
+            result.t,
+            event_times=ev[:, EV_T],
+            contact_flag=cs[:, :, 0],
+            contact_force=_POINT_FORCE.take(po),
+            max_frames=max_frames,
+        )
+        qf = result.q[fk].reshape(fk.size, nb, 7).astype(np.float32)  # for drawing
+        dv.update(
+            frame_time=_var(("frame",), result.t[fk], "s", "frame time"),
+            frame_sample=_var(("frame",), fk, "1", "frame sample", "index into time"),
+            frame_position=_var(
+                ("frame", "frame_body", "axis"),
+                qf[:, :, :3],
+                "m",
+                "mass-centre position at the frames",
+                "world frame, every body; single precision (for drawing)",
+            ),
+            frame_euler_parameters=_var(
+                ("frame", "frame_body", "quat"),
+                qf[:, :, 3:],
+                "1",
+                "Euler parameters at the frames",
+                "body -> world rotation, every body; single precision (for drawing)",
+            ),
+        )
     if result.section_time is not None:  # simulate(section=...): crossings (dim crossing)
         ys = result.section_state
         ns = ys.shape[0]
@@ -305,11 +348,6 @@ def result_to_dataset(
             _ENERGY_NAMES.get(key, f"energy term {key}"),
         )
 
-    nclr = len(result.clearance_names)
-    ncp = len(result.contact_point_names)
-    co = result.contact if result.contact is not None else np.zeros((n, nclr, NCOUT))
-    po = result.contact_points if result.contact_points is not None else np.zeros((n, ncp, NPOUT))
-    cs = result.contact_state if result.contact_state is not None else np.zeros((n, ncp, 2))
     dis = result.dissipation if result.dissipation is not None else np.zeros((n, nclr, 2))
     br = result.bristle if result.bristle is not None else np.zeros((n, ncp, 3))
     tables = [(JOINT_COLUMNS, co, "clearance")] if "clearance" in groups else []
@@ -356,7 +394,6 @@ def result_to_dataset(
                     ("clearance",), pk[:, 3], "s", "time of the largest penetration"
                 ),
             )
-        ev = result.events if result.events is not None else np.zeros((0, NLOG))
         pidx = ev[:, EV_POINT].astype(np.int64)
         jnames = [result.contact_point_joints[k] for k in pidx]
         dv.update(
@@ -463,6 +500,10 @@ def result_to_dataset(
         ),
     }
 
+    if "frames" in groups:
+        coords["frame_body"] = _var(
+            ("frame_body",), _strings(c.body_names), "1", "body name (frames: every body)"
+        )
     if "multipliers" in groups:
         coords.update(
             {
@@ -504,6 +545,7 @@ def result_to_dataset(
         "settings": json.dumps(result.settings, default=str),
         "layout": c.describe(),
         "outputs": json.dumps([g for g in OUTPUTS if g in groups]),
+        "geometry": json.dumps(mechanism_geometry(c.mechanism)),
     }
     at.update({f"stats_{k}": val for k, val in result.stats.items()})
     at.update(attrs or {})
@@ -531,7 +573,9 @@ def dataset_to_arrays(ds: xr.Dataset) -> dict:
     (dict), stats (dict). Files of version 0.1 (one contact point per joint, no point
     channels) read as well.
     """
-    missing = [k for k in OUTPUTS if k != "platform" and k not in stored_outputs(ds)]
+    missing = [
+        k for k in OUTPUTS if k not in ("platform", "frames") and k not in stored_outputs(ds)
+    ]
     if missing:
         raise ValueError(
             f"the dataset holds the outputs {sorted(stored_outputs(ds))}; restoring a Result "

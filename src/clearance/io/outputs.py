@@ -8,6 +8,10 @@ at the full output resolution:
 =================  ===================================================================
 group              data variables (see `clearance.io.dataset`)
 =================  ===================================================================
+frames             every body's position and euler_parameters at the frames a viewer
+                   draws (`clearance view`, `animate`): a uniform subset of the samples
+                   plus every sample near a contact event (`clearance.io.frames`), with
+                   the mechanism's geometry in the group's `geometry` attribute
 platform           position, euler_parameters, velocity, angular_velocity,
                    acceleration, angular_acceleration (world frame) of the *selected*
                    bodies (a scenario's platform); on the `body` dimension
@@ -34,6 +38,7 @@ from collections.abc import Iterable
 
 OUTPUTS: dict[str, str] = {
     "platform": "pose, velocity and acceleration of the platform body",
+    "frames": "every body's pose at the frames a viewer draws (decimated, contacts kept)",
     "bodies": "pose, velocity and acceleration of every body",
     "actuators": "actuator forces",
     "energy": "energy terms and the energy-balance residual",
@@ -42,7 +47,7 @@ OUTPUTS: dict[str, str] = {
     "multipliers": "Lagrange multipliers, constraint violation and its rate",
     "reactions": "joint and driver reaction forces and moments",
 }
-LEAN = ("platform", "actuators", "energy", "clearance")
+LEAN = ("platform", "frames", "actuators", "energy", "clearance")
 OPT_IN = ("bodies", "contact_points", "multipliers", "reactions")
 ALL = "all"
 

@@ -61,6 +61,7 @@ from clearance.scenario.schema import (
 from clearance.scenario.serialize import scenario_to_dict
 from clearance.scenario.steady import STEADY_FIELDS
 from clearance.scenario.trajectories import HARMONIC_KEYS
+from clearance.scenario.view import VIEW_FIELDS
 
 __all__ = [
     "allowed_keys",
@@ -195,6 +196,7 @@ def allowed_keys(d: Mapping, keys: list[str], *, kind: object = MISSING) -> tupl
             "output": tuple(OUTPUT_FIELDS),
             "checks": tuple(CHECKS_FIELDS),
             "steady_state": tuple(STEADY_FIELDS),
+            "view": tuple(VIEW_FIELDS),
             "mechanism": mech_keys,
         }
         return sections.get(head)

@@ -67,6 +67,7 @@ from clearance.scenario.trajectories import (  # (IK_SPACING: re-exported)
     parse_samples,
     time_scale,
 )
+from clearance.scenario.view import ViewSpec, parse_view
 
 __all__ = [
     "FORMAT_VERSION",
@@ -101,6 +102,7 @@ SECTIONS = (
     "output",
     "checks",
     "steady_state",
+    "view",
 )
 TOP_KEYS = ("format_version", *SECTIONS)
 AUTO = "auto"  # in a law table: the field's computed value (None in Python)
@@ -621,6 +623,7 @@ class Scenario:
     source: str = field(default="<dict>", compare=False)
     checks: ChecksSpec = field(default_factory=ChecksSpec)
     steady_state: SteadyStateSpec | None = None  # [steady_state] (clearance.scenario.steady)
+    view: ViewSpec = field(default_factory=ViewSpec)  # [view] (clearance.scenario.view)
 
     @property
     def name(self) -> str:
@@ -1164,6 +1167,9 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
         own = mech is not None and mech.type is MechanismType.GENERAL
         own = own and traj is not None and not traj.actuators
         steady, solver = parse_steady_state(t, traj, solver, own, problems)
+    view = ViewSpec()
+    if "view" in d and (t := _section(d, "view", problems)) is not None:
+        view = parse_view(t, problems)
     problems.raise_if_any()
     return Scenario(
         meta,  # type: ignore[arg-type]
@@ -1176,4 +1182,5 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
         source,
         checks,  # type: ignore[arg-type]
         steady,
+        view,  # type: ignore[arg-type]
     )

@@ -13,6 +13,7 @@ from clearance.model.contact_laws import FrictionContactLaw, NormalContactLaw, l
 from clearance.scenario.general import GeneralParams
 from clearance.scenario.parallel import ParallelParams
 from clearance.scenario.schema import AUTO, CLEARANCE_KINDS, Scenario
+from clearance.scenario.view import ViewSpec
 
 __all__ = ["law_dict", "nest_joints", "scenario_to_dict"]
 
@@ -122,4 +123,6 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
         if st["section"] is None:
             del st["section"]
         doc["steady_state"] = st
+    if s.view != ViewSpec():
+        doc["view"] = s.view.to_dict()
     return doc
