@@ -397,13 +397,13 @@ def test_view_table_is_validated_kept_and_used(tmp_path):
     from clearance.scenario import ScenarioError, loads_scenario, scenario_to_toml
 
     base = scenario_to_toml(load_scenario(default_scenario_path("ups_upu")))
-    good = base + '\n[view]\nmagnification = 20\nframes = 300\n[view.bodies.platform]\n'
+    good = base + "\n[view]\nmagnification = 20\nframes = 300\n[view.bodies.platform]\n"
     good += 'shape = "sphere"\ncolour = "#112233"\n'
     s = loads_scenario(good)
     assert s.view.magnification == 20 and s.view.frames == 300
     assert s.view.bodies == {"platform": {"shape": "sphere", "colour": "#112233"}}
     assert loads_scenario(scenario_to_toml(s)).view == s.view  # round trip
-    bad = base + '\n[view]\nmagnification = -1\nfoo = 1\n[view.bodies.platform]\n'
+    bad = base + "\n[view]\nmagnification = -1\nfoo = 1\n[view.bodies.platform]\n"
     bad += 'shape = "cube"\ncolour = "red"\n'
     with pytest.raises(ScenarioError) as e:
         loads_scenario(bad)
