@@ -869,6 +869,7 @@ STAGES = (
     "write",
     "export",
     "figures",
+    "report",
 )
 
 
@@ -1142,6 +1143,7 @@ def run_scenario(
                 {k: summary[k]["plausibility"] for k in ("ideal", "clearance")}
             ),
             "implausible": ",".join(implausible(summary)),
+            "summary": json.dumps(summary, default=_plain_json),
         },
         groups=run_outputs(s, outputs, cc),
         platform=info.platform_body,
@@ -1232,10 +1234,39 @@ def write_outputs(
         raise
     if figure_error is not None:
         raise figure_error
+    figs: list = []
     if pending is not None:
         with timer("figures"):
-            files += pending.result()
+            figs = pending.result()
+            files += figs
+    if s.output.report:
+        with timer("report"):
+            files.append(_report(files[0], ds, root, figs, out))
     return files
+
+
+def _plain_json(x: object) -> object:
+    """JSON for what `json` does not know in a summary (NumPy scalars and arrays)."""
+    if isinstance(x, np.generic):
+        return x.item()
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    return str(x)
+
+
+def _report(result: Path, ds: dict, root: dict, figures: list, out: Path) -> Path:
+    """report.html of a run (`clearance.view.report`), from the datasets in memory."""
+    from clearance.view.report import REPORT, write_report
+    from clearance.view.scene import SceneError, scene_from_datasets
+
+    try:
+        scene = scene_from_datasets(result, root, ds)
+    except SceneError:
+        scene = None  # (the report says why it has no viewer)
+    summary = json.loads(root.get("summary", "{}"))
+    return write_report(
+        result, out / REPORT, scene=scene, summary=summary, figures=figures, draw=False
+    )
 
 
 def warmup(log: Callable[[str], None] | None = print) -> dict:

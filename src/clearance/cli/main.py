@@ -551,6 +551,44 @@ def animate(
 
 
 @app.command()
+def report(
+    path: Path = typer.Argument(
+        ..., help="result file (.nc) of `clearance run`, or a study folder of `clearance sweep`"
+    ),
+    out: Path = typer.Option(
+        None, "-o", "--out", help="HTML file to write (default: report.html next to it / in it)"
+    ),
+) -> None:
+    """(Re)build a report: one self-contained HTML page with the summary table, the figures,
+    the 3-D viewer, the scenario and the version; for a study, the table of cases, the
+    summary plots and a viewer per case."""
+    from clearance.view import SceneError
+
+    try:
+        if path.is_dir():
+            from clearance.scenario import ScenarioError
+            from clearance.sweep.report import study_report
+
+            try:
+                written = study_report(path, out)
+            except ScenarioError as e:
+                for line in e.lines():
+                    typer.echo(line, err=True)
+                raise typer.Exit(2) from None
+        else:
+            from clearance.view.report import write_report
+
+            written = write_report(path, out)
+    except SceneError as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from None
+    except OSError as e:
+        typer.echo(f"error: {path}: {e}", err=True)
+        raise typer.Exit(2) from None
+    typer.echo(f"report: {written} ({written.stat().st_size / 1e6:.1f} MB)")
+
+
+@app.command()
 def export(
     result: Path = typer.Argument(..., help="result file (.nc) written by `clearance run`"),
     csv: bool = typer.Option(True, "--csv/--no-csv", help="write CSV tables"),
@@ -811,6 +849,7 @@ _FAST_EXIT = {
     "warmup",
     "view",
     "animate",
+    "report",
 }
 
 

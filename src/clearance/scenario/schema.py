@@ -413,6 +413,7 @@ OUTPUT_FIELDS = {
         doc="result groups beyond the lean default (clearance.io.outputs)",
         choices=(*OUTPUTS, ALL_OUTPUTS),
     ),
+    "report": Field("bool", True, doc="write report.html (summary, figures, 3-D viewer)"),
 }
 
 
@@ -586,6 +587,7 @@ class OutputSpec:
     figure_format: str = "png"
     formats: tuple = ("netcdf",)
     outputs: tuple = ()  # groups written besides clearance.io.outputs.LEAN
+    report: bool = True  # report.html (clearance.view.report)
 
 
 @dataclass(frozen=True)

@@ -176,7 +176,13 @@ def start_case(task: Mapping[str, Any], *, defer_write: bool = False) -> Callabl
             task["base"], task["overrides"], joint_template=task["joint_template"], source=source
         )
         d["scenario"] = {**d["scenario"], "name": cid}
-        d["output"] = {**d.get("output", {}), "figures": False, "formats": ["netcdf"]}
+        # (no report per case: the study's report links a viewer page per case)
+        d["output"] = {
+            **d.get("output", {}),
+            "figures": False,
+            "formats": ["netcdf"],
+            "report": False,
+        }
         s = scenario_from_dict(d, source=source)
         # (a deferred write leaves this part no NetCDF to write, and a second thread may
         # be writing the previous case under `local()`: dask's config is process-wide)
@@ -402,7 +408,9 @@ def warm_worker() -> float:
         return 0.0
     t0 = time.perf_counter()
     s = load_scenario(default_scenario_path())
-    s = with_overrides(s, {"trajectory.duration": 0.005, "solver.dt_out": 1e-3})
+    s = with_overrides(
+        s, {"trajectory.duration": 0.005, "solver.dt_out": 1e-3, "output.report": False}
+    )
     with tempfile.TemporaryDirectory() as d:
         run_scenario(s, out_dir=d, figures=False, log=None)
     return time.perf_counter() - t0

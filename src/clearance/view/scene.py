@@ -23,7 +23,14 @@ from clearance.io.geometry import geometry_from_attrs, mechanism_geometry
 from clearance.view.shapes import _rot, body_shapes, joint_glyphs, mechanism_size
 from clearance.view.shapes import nice_magnification as _nice
 
-__all__ = ["ClearanceTrack", "RunMotion", "Scene", "SceneError", "load_scene"]
+__all__ = [
+    "ClearanceTrack",
+    "RunMotion",
+    "Scene",
+    "SceneError",
+    "load_scene",
+    "scene_from_datasets",
+]
 
 
 class SceneError(ValueError):
@@ -226,18 +233,35 @@ def load_scene(
         if bad:
             raise SceneError(f"{path}: no run {bad[0]!r}; the file holds {', '.join(groups)}")
         groups = list(runs)
-    loaded = []
-    for g in groups:
-        ds = _open(path, g)
-        try:
-            t, poses, names = _poses(path, ds, g, max_frames)
-            geo = _geometry(path, ds, root, g)
-            loaded.append((g, ds, t, poses, names, geo))
-        except Exception:
+    opened: dict = {}
+    try:
+        for g in groups:
+            opened[g] = _open(path, g)
+        return scene_from_datasets(
+            path, root, opened, magnification=magnification, max_frames=max_frames, view=view
+        )
+    finally:
+        for ds in opened.values():
             ds.close()
-            for item in loaded:
-                item[1].close()
-            raise
+
+
+def scene_from_datasets(
+    source: str | os.PathLike,
+    root: dict,
+    datasets: dict,
+    *,
+    magnification: float | None = None,
+    max_frames: int = MAX_FRAMES,
+    view: dict | None = None,
+) -> Scene:
+    """The Scene of run datasets in memory ({group: xarray.Dataset}, in order; `root`: the
+    file's root attributes), as `load_scene` reads them from a file (`clearance run` draws
+    its report from the datasets it writes)."""
+    path = Path(source)
+    loaded = []
+    for g, ds in datasets.items():
+        t, poses, names = _poses(path, ds, g, max_frames)
+        loaded.append((g, ds, t, poses, names, _geometry(path, ds, root, g)))
     if view is None and root.get("view"):  # the scenario's [view], kept by `clearance run`
         try:
             view = json.loads(root["view"])
@@ -245,11 +269,7 @@ def load_scene(
             view = None
     if magnification is None and view:
         magnification = view.get("magnification")
-    try:
-        return _scene(path, root, loaded, magnification, view)
-    finally:
-        for item in loaded:
-            item[1].close()
+    return _scene(path, root, loaded, magnification, view)
 
 
 def _scene(path: Path, root: dict, loaded: list, magnification, view) -> Scene:
