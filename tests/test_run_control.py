@@ -235,7 +235,8 @@ def test_max_wall_time_in_a_scenario_stops_both_runs_and_writes(tmp_path):
         assert r.status == Status.WALL_TIME and 0 < r.t[-1] < 2.0
     assert {run for run, _, _ in seen} == {"ideal", "clearance"}
     assert all(t_end == 2.0 for _, _, t_end in seen)
-    assert [f.name for f in o.files] == ["ups_upu.nc"]
+    assert [f.name for f in o.files] == ["ups_upu.nc", "report.html"]
+    assert o.files[1].read_text().count('class="bad">stopped</span>') == 2  # says why
     from clearance.pipeline import format_summary
 
     assert "clearance: STOPPED: the wall-time limit max_wall_time = 0.5 s" in format_summary(
