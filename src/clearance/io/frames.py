@@ -11,6 +11,12 @@ frames are
 - the sample of the largest contact force of each contact interval (consecutive samples
   with a contact flag), so no interval is missed and its peak is drawn.
 
+The contact frames have a budget of `EVENT_BUDGET` x max_frames (runs with thousands of
+impacts): over it, the window shrinks (down to the event's own sample), then only the
+largest peaks and an even subset of the events are kept, so a file never holds more than
+(1 + EVENT_BUDGET) x max_frames + 1 frames per run. Events outside the samples' time span
+are ignored.
+
 An impact shorter than the output step has no sample in contact at all; the event log
 still lists it (the viewer marks every event on its time line).
 """
@@ -21,8 +27,9 @@ import numpy as np
 
 MAX_FRAMES = 2000
 WINDOW = 6
+EVENT_BUDGET = 2  # contact frames: at most this many times max_frames
 
-__all__ = ["MAX_FRAMES", "WINDOW", "contact_runs", "frame_samples"]
+__all__ = ["EVENT_BUDGET", "MAX_FRAMES", "WINDOW", "contact_runs", "frame_samples"]
 
 
 def contact_runs(flag: np.ndarray) -> list[tuple[int, int]]:
@@ -58,20 +65,37 @@ def frame_samples(
         raise ValueError(f"max_frames = {max_frames}: expected at least 1")
     stride = max(1, -(-(n - 1) // max_frames))
     keep = [np.arange(0, n, stride), np.array([n - 1])]
-    if event_times is not None and np.size(event_times) and stride > 1:
-        k = np.searchsorted(t, np.asarray(event_times, dtype=float))
-        offs = np.arange(-window, window + 1)
-        keep.append(np.clip((k[:, None] + offs[None, :]).ravel(), 0, n - 1))
-    if contact_flag is not None and stride > 1:
+    if stride == 1:  # every sample is a frame already
+        return np.unique(np.concatenate(keep)).astype(np.int64)
+    budget = EVENT_BUDGET * max_frames
+    peaks = np.zeros(0, dtype=np.int64)
+    if contact_flag is not None:
         flag = np.asarray(contact_flag).reshape(n, -1)
         force = (
             np.abs(np.asarray(contact_force, dtype=float).reshape(n, -1))
             if contact_force is not None
             else np.zeros(flag.shape)
         )
-        peaks = []
+        found = []  # (peak force, sample)
         for j in range(flag.shape[1]):
             for a, b in contact_runs(flag[:, j]):
-                peaks.append(a + int(np.argmax(force[a : b + 1, j])))
-        keep.append(np.asarray(peaks, dtype=np.int64))
+                m = a + int(np.argmax(force[a : b + 1, j]))
+                found.append((force[m, j], m))
+        if len(found) > budget:  # the largest peaks
+            found.sort(key=lambda x: -x[0])
+            found = found[:budget]
+        peaks = np.array([m for _, m in found], dtype=np.int64)
+    left = budget - peaks.size
+    if event_times is not None and np.size(event_times) and left > 0:
+        te = np.asarray(event_times, dtype=float).ravel()
+        te = te[(te >= t[0]) & (te <= t[-1])]
+        k = np.unique(np.searchsorted(t, te).clip(0, n - 1))
+        w = window
+        while w > 0 and k.size * (2 * w + 1) > left:  # narrower windows first
+            w //= 2
+        if k.size > left:  # then an even subset of the events
+            k = k[np.linspace(0, k.size - 1, left).round().astype(np.int64)]
+        offs = np.arange(-w, w + 1)
+        keep.append(np.clip((k[:, None] + offs[None, :]).ravel(), 0, n - 1))
+    keep.append(peaks)
     return np.unique(np.concatenate(keep).astype(np.int64))

@@ -66,7 +66,10 @@ def _payload(scene: Scene) -> dict:
     for c in scene.clearances:
         info = dict(c.info)
         draw_outer = max(float(info["outer_radius"]), 1.6 * rod)
-        direction, up = _view_axes(c.e)
+        if info["kind"] == "spherical":
+            direction, up = _view_axes(c.e)
+        else:  # journals and sliders: the bearing plane / the guide's cross-section
+            direction, up = [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]
         info.update(
             draw_outer=draw_outer,
             arrow_length=4.0 * draw_outer,
@@ -95,6 +98,7 @@ def _payload(scene: Scene) -> dict:
                 "message": r.message,
                 "success": r.success,
                 "t_end": r.t_end,
+                "present": r.present or [1] * len(scene.bodies),
                 "poses": _b64(r.poses, np.float32),
             }
             for r in scene.runs
@@ -134,7 +138,8 @@ button, select { font: inherit; }
 
 def viewer_html(scene: Scene) -> str:
     """The page (module docstring) for a Scene."""
-    data = json.dumps(_payload(scene), separators=(",", ":")).replace("</", "<\\/")
+    # (every "<" escaped: no "</script>" or "<!--" in a name can end or hide the block)
+    data = json.dumps(_payload(scene), separators=(",", ":")).replace("<", "\\u003c")
     speeds = "".join(
         f'<option value="{s:g}"{" selected" if s == 0.1 else ""}>{s:g}\u00d7</option>'
         for s in SPEEDS

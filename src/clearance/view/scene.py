@@ -47,6 +47,7 @@ class RunMotion:
     success: bool
     poses: np.ndarray
     t_end: float
+    present: list = field(default_factory=list)  # per body: 1 if this run has it
 
 
 @dataclass
@@ -113,14 +114,17 @@ def _open(path: Path, group: str):
 
 
 def _geometry(path: Path, ds, root: dict, group: str) -> dict:
-    g = geometry_from_attrs(ds.attrs)
+    try:
+        g = geometry_from_attrs(ds.attrs)
+    except ValueError as e:
+        raise SceneError(f"{path}: group {group!r}: {e}") from None
     if g is not None:
         return g
     text = root.get("scenario")
     if not text:
         raise SceneError(
             f"{path}: group {group!r} records no geometry (attribute 'geometry') and the file "
-            "holds no scenario to rebuild it from; re-run the scenario with clearance >= 0.2"
+            "holds no scenario to rebuild it from; re-run the scenario with this version"
         )
     from clearance.scenario import build_mechanisms, loads_scenario
 
@@ -139,13 +143,23 @@ def _poses(path: Path, ds, group: str, max_frames: int) -> tuple[np.ndarray, np.
         return np.asarray(ds["frame_time"].values, dtype=float), np.concatenate([p, e], 2), names
     if "euler_parameters" in ds and "angular_velocity_body" in ds:  # every body stored
         t = np.asarray(ds["time"].values, dtype=float)
-        k = frame_samples(t, max_frames=max_frames)
+        ev = np.asarray(ds["event_time"].values) if "event_time" in ds else None
+        flag = np.asarray(ds["contact_flag"].values) if "contact_flag" in ds else None
+        force = (
+            np.asarray(ds["point_contact_force"].values) if "point_contact_force" in ds else None
+        )
+        if force is None and flag is not None and "contact_force" in ds:
+            force = np.asarray(ds["contact_force"].values)
+            force = force if force.shape == flag.shape else None
+        k = frame_samples(
+            t, event_times=ev, contact_flag=flag, contact_force=force, max_frames=max_frames
+        )
         p = np.asarray(ds["position"].values[k], dtype=np.float64)
         e = np.asarray(ds["euler_parameters"].values[k], dtype=np.float64)
         return t[k], np.concatenate([p, e], 2), [str(b) for b in ds["body"].values]
     raise SceneError(
-        f"{path}: group {group!r} has no frames (the 'frames' output, written by default "
-        "since clearance 0.2) and not every body's pose; re-run the scenario to draw it"
+        f"{path}: group {group!r} has no frames (the 'frames' output, which this version "
+        "writes by default) and not every body's pose; re-run the scenario to draw it"
     )
 
 
@@ -261,6 +275,8 @@ def scene_from_datasets(
     loaded = []
     for g, ds in datasets.items():
         t, poses, names = _poses(path, ds, g, max_frames)
+        if t.size == 0:
+            raise SceneError(f"{path}: group {g!r} has no frames (a run that stored no sample)")
         loaded.append((g, ds, t, poses, names, _geometry(path, ds, root, g)))
     if view is None and root.get("view"):  # the scenario's [view], kept by `clearance run`
         try:
@@ -290,6 +306,7 @@ def _scene(path: Path, root: dict, loaded: list, magnification, view) -> Scene:
                 success=bool(int(dsk.attrs.get("success", 1))),
                 poses=_resample(tk, full, t).astype(np.float32),
                 t_end=float(tk[-1]) if tk.size else 0.0,
+                present=[int(k >= 0) for k in idx],
             )
         )
     pose0 = {b: (poses[0, k, :3], poses[0, k, 3:]) for k, b in enumerate(bodies)}

@@ -24,6 +24,8 @@ from clearance.view.shapes import _rot
 __all__ = ["VideoInfo", "render_video", "video_times"]
 
 FORMATS = (".mp4", ".gif")
+MAX_VIDEO_FRAMES = 20_000  # 13 min at 25 fps
+MAX_INSETS = 6  # close-ups in a video frame (the first joints')
 
 
 @dataclass(frozen=True)
@@ -68,7 +70,7 @@ class _Drawing:
         w, h = size
         self.fig = Figure(figsize=(w / dpi, h / dpi), dpi=dpi, facecolor="white")
         self.canvas = FigureCanvasAgg(self.fig)
-        ncl = len(scene.clearances)
+        ncl = min(len(scene.clearances), MAX_INSETS)
         main_w = 0.70 if ncl else 1.0
         ax = self.fig.add_axes((0.0, 0.0, main_w, 0.94), projection="3d")
         self.ax = ax
@@ -115,7 +117,16 @@ class _Drawing:
         ax.view_init(elev=22, azim=-60)
         self.stamp = self.fig.text(0.01, 0.965, "", fontsize=12, family="monospace")
         self.fig.text(0.99, 0.965, scene.title, fontsize=10, ha="right", color="#34495e")
-        self.insets = [self._inset(c, k, ncl, main_w) for k, c in enumerate(scene.clearances)]
+        shown = scene.clearances[:MAX_INSETS]
+        self.insets = [self._inset(c, k, ncl, main_w) for k, c in enumerate(shown)]
+        if len(scene.clearances) > MAX_INSETS:
+            self.fig.text(
+                0.99,
+                0.01,
+                f"close-ups of the first {MAX_INSETS} of {len(scene.clearances)} clearance joints",
+                ha="right",
+                fontsize=8,
+            )
 
     def _limits(self):
         sc = self.scene
@@ -132,20 +143,25 @@ class _Drawing:
     def _inset(self, c, k, n, left):
         from matplotlib.colors import Normalize
 
-        gap = 0.08
-        hgt = min(0.4, (0.92 - gap * (n - 1)) / max(n, 1))
+        gap = 0.08 if n <= 2 else 0.05
+        hgt = min(0.4, (0.92 - gap * (n - 1)) / max(n, 1))  # (n <= MAX_INSETS: > 0.1)
         y0 = 0.92 - (k + 1) * hgt - k * gap
         ax = self.fig.add_axes((left + 0.05, y0, 0.26, hgt))
         e = c.e / c.info["c"]
         x = e - e.mean(axis=0)
-        if np.any(np.abs(x) > 0):  # the plane of the trace's two main directions
+        spherical = c.info["kind"] == "spherical"
+        if spherical and np.any(np.abs(x) > 0):  # the plane of the trace's main directions
             _, _, vt = np.linalg.svd(x, full_matrices=False)
             U = vt[:2]
-        else:
+        else:  # journals, sliders: the bearing plane, the guide's cross-section (f, g)
             U = np.eye(3)[:2]
         u = e @ U.T
-        a = np.linspace(0, 2 * np.pi, 200)
-        ax.plot(np.cos(a), np.sin(a), color="#7f8c8d", lw=1.0)
+        if c.info["kind"] == "prismatic":
+            hh = c.info.get("height_clearance", c.info["c"]) / c.info["c"]
+            ax.plot([-1, 1, 1, -1, -1], [-hh, -hh, hh, hh, -hh], color="#7f8c8d", lw=1.0)
+        else:
+            a = np.linspace(0, 2 * np.pi, 200)
+            ax.plot(np.cos(a), np.sin(a), color="#7f8c8d", lw=1.0)
         ax.plot([0], [0], "+", color="#7f8c8d")
         (trace,) = ax.plot([], [], color="#2471a3", lw=0.8)
         (dot,) = ax.plot([], [], "o", color="#d35400", ms=6)
@@ -237,6 +253,12 @@ def render_video(
     w, h = (int(x) for x in size)
     if w < 64 or h < 64 or w % 2 or h % 2:
         raise SceneError(f"size = {w}x{h}: expected even numbers of pixels, at least 64")
+    nframes = int(np.floor((t1 - t0) / (speed / fps) * (1 + 1e-12))) + 1
+    if nframes > MAX_VIDEO_FRAMES:
+        raise SceneError(
+            f"speed = {speed:g} at {fps:g} fps makes {nframes} frames for {t1 - t0:g} s of "
+            f"motion; at most {MAX_VIDEO_FRAMES} (raise --speed or lower --fps)"
+        )
     times = video_times(t0, t1, fps, speed)
     frames = np.clip(np.searchsorted(scene.time, times, side="right") - 1, 0, scene.time.size - 1)
     drawing = _Drawing(scene, (w, h), dpi, ghost)

@@ -25,6 +25,9 @@
   const NB = D.bodies.length;
   const runs = D.runs.map((r) => ({ ...r, poses: f32(r.poses) }));
   const primary = runs.length - 1;
+  // the run the "ideal" modes show: the one named ideal, else the first other run
+  let idealRun = runs.findIndex((r) => r.name === "ideal");
+  if (idealRun === primary) idealRun = runs.length > 1 ? 0 : -1;
   const tracks = D.clearances.map((c) => ({
     ...c,
     e: f32(c.e),
@@ -50,6 +53,7 @@
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   renderer.setClearColor(0xf4f6f8, 1);
   main.appendChild(renderer.domElement);
+  renderer.domElement.addEventListener("webglcontextlost", () => errors.push("WebGL context lost"));
   const scene = new THREE.Scene();
   scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 1.6));
   const sun = new THREE.DirectionalLight(0xffffff, 1.6);
@@ -115,6 +119,7 @@
     root.userData.bodies = D.bodies.map((b) => {
       const g = new THREE.Group();
       g.name = b;
+      g.visible = r.present[D.bodies.indexOf(b)] !== 0; // (a body this run does not have)
       for (const p of D.shapes[b] || []) g.add(primitive(p, ghost));
       for (const p of D.glyphs[b] || []) g.add(primitive(p, ghost));
       root.add(g);
@@ -135,6 +140,18 @@
       0, 0, 0, 1);
     return m;
   }
+  // The drawn centre of the inner part in the outer marker frame: the eccentricity
+  // magnified, except the travel along the axis of a joint that slides (cylindrical,
+  // prismatic: e_z is the slide position, not a clearance), which is drawn true.
+  const slides = (c) => c.kind === "cylindrical" || c.kind === "prismatic";
+  function drawnOffset(c, e) {
+    return [mag * e[0], mag * e[1], (slides(c) ? 1 : mag) * e[2]];
+  }
+  // The close-up point: the eccentricity in units of the clearance; for journals and
+  // sliders its transverse part only (the bearing plane, the guide's cross-section).
+  function closeupPoint(c, e) {
+    return [e[0] / c.c, e[1] / c.c, c.kind === "spherical" ? e[2] / c.c : 0];
+  }
   function jointGlyph(c) {
     const g = new THREE.Group();
     const outer = new THREE.MeshStandardMaterial({
@@ -149,7 +166,8 @@
       ball = new THREE.Mesh(new THREE.SphereGeometry(r, 32, 20), inner);
     } else if (c.kind === "prismatic") {
       const s = R / c.outer_radius;
-      socket = new THREE.Mesh(new THREE.BoxGeometry(2 * R, s * c.height + 2 * mag * c.c, 1.5 * s * c.length), outer);
+      socket = new THREE.Mesh(
+        new THREE.BoxGeometry(2 * R, s * c.height + 2 * mag * c.height_clearance, 1.5 * s * c.length), outer);
       ball = new THREE.Mesh(new THREE.BoxGeometry(2 * R - 2 * mag * c.c, s * c.height, s * c.length), inner);
     } else {
       const L = (c.length * R) / c.outer_radius;
@@ -173,12 +191,20 @@
   const glyphs = tracks.map((c) => {
     const gl = jointGlyph(c);
     const k = bodyIndex[c.outer_body];
-    (k === undefined ? scene : roots[primary].userData.bodies[k]).add(gl.group);
+    // (a socket on the ground: in the clearance run's root, which is the world frame)
+    (k === undefined ? roots[primary] : roots[primary].userData.bodies[k]).add(gl.group);
     return gl;
   });
 
   // ---- close-up panels: the ball centre in its clearance, units of c --------------------
-  const closeups = tracks.map((c, j) => {
+  const MAX_CLOSEUPS = 8; // (a browser allows ~16 WebGL contexts per page)
+  if (tracks.length > MAX_CLOSEUPS) {
+    const note = document.createElement("div");
+    note.className = "label";
+    note.textContent = "close-ups of the first " + MAX_CLOSEUPS + " of " + tracks.length + " clearance joints";
+    document.getElementById("closeups").appendChild(note);
+  }
+  const closeups = tracks.slice(0, MAX_CLOSEUPS).map((c, j) => {
     const div = document.createElement("div");
     div.className = "closeup";
     const label = document.createElement("div");
@@ -212,7 +238,12 @@
     s.add(new THREE.AxesHelper(1.25));
     const trace = new THREE.BufferGeometry();
     const tp = new Float32Array(3 * NF);
-    for (let k = 0; k < 3 * NF; k++) tp[k] = c.e[k] / c.c;
+    for (let k = 0; k < NF; k++) {
+      const u = closeupPoint(c, c.e.subarray(3 * k, 3 * k + 3));
+      tp[3 * k] = u[0];
+      tp[3 * k + 1] = u[1];
+      tp[3 * k + 2] = u[2];
+    }
     trace.setAttribute("position", new THREE.BufferAttribute(tp, 3));
     const line = new THREE.Line(trace, new THREE.LineBasicMaterial({ color: 0x2471a3 }));
     s.add(line);
@@ -252,7 +283,8 @@
       const on = c.contact[frame] !== 0;
       const fn = c.fn[frame];
       const gl = glyphs[j];
-      gl.ball.position.set(mag * e[0], mag * e[1], mag * e[2]);
+      const d = drawnOffset(c, e);
+      gl.ball.position.set(d[0], d[1], d[2]);
       const fl = Math.hypot(f[0], f[1], f[2]);
       const show = on && fl > 0 && showArrows;
       const colour = colourOf(c.peak > 0 ? fn / c.peak : 0);
@@ -260,7 +292,7 @@
         const dir = tmp.set(f[0], f[1], f[2]).normalize();
         const L = c.arrow_length * Math.max(fn / (c.peak || 1), 0.08);
         const contact = new THREE.Vector3(n[0], n[1], n[2]).multiplyScalar(c.draw_outer);
-        if (c.kind !== "spherical") contact.add(new THREE.Vector3(0, 0, mag * e[2]));
+        if (c.kind !== "spherical") contact.add(new THREE.Vector3(0, 0, d[2]));
         gl.arrow.position.copy(contact.clone().addScaledVector(dir, -L));
         gl.arrow.setDirection(dir);
         gl.arrow.setLength(L, 0.3 * L, 0.18 * L);
@@ -268,19 +300,22 @@
       }
       gl.arrow.visible = show;
       const cu = closeups[j];
+      if (!cu) return; // (close-ups for the first MAX_CLOSEUPS joints only)
       cu.line.geometry.setDrawRange(0, frame + 1);
-      cu.dot.position.set(e[0] / c.c, e[1] / c.c, e[2] / c.c);
-      if (show) {
-        const dir = tmp.set(f[0], f[1], f[2]).normalize();
+      cu.dot.position.fromArray(closeupPoint(c, e));
+      const fz = c.kind === "spherical" ? f[2] : 0; // (journals, sliders: the plane's part)
+      const showCu = show && Math.hypot(f[0], f[1], fz) > 0;
+      if (showCu) {
+        const dir = tmp.set(f[0], f[1], fz).normalize();
         const L = 0.3 + 0.9 * Math.min(fn / (c.peak || 1), 1);
         cu.arrow.position.copy(cu.dot.position).addScaledVector(dir, -L);
         cu.arrow.setDirection(dir);
         cu.arrow.setLength(L, 0.25, 0.15);
         cu.arrow.setColor(colour);
       }
-      cu.arrow.visible = show;
+      cu.arrow.visible = showCu;
       cu.label.textContent =
-        c.name + " (" + c.kind + "): ball centre / c" + (on ? ", F_N = " + fn.toFixed(1) + " N" : ", free");
+        c.name + " (" + c.kind + "): centre / c" + (on ? ", F_N = " + fn.toFixed(1) + " N" : ", free");
     });
     slider.value = String(frame);
     tlabel.textContent = "t = " + time[frame].toFixed(5) + " s";
@@ -298,9 +333,17 @@
   slider.max = String(NF - 1);
   let playing = false;
   let simTime = time[0];
+  { // the default speed: the option nearest to the whole run in 20 s
+    const want = Math.max(time[NF - 1] - time[0], 1e-9) / 20;
+    let best = speedSel.options[0];
+    for (const o of speedSel.options) {
+      if (Math.abs(Math.log(parseFloat(o.value) / want)) < Math.abs(Math.log(parseFloat(best.value) / want))) best = o;
+    }
+    speedSel.value = best.value;
+  }
   let speed = parseFloat(speedSel.value);
   let showArrows = arrowsBox.checked;
-  let mode = runs.length > 1 ? modeSel.value : "clearance";
+  let mode = idealRun >= 0 ? modeSel.value : "clearance";
   let dirty = true;
   let last = null;
   slider.addEventListener("input", () => applyFrame(parseInt(slider.value, 10)));
@@ -318,8 +361,10 @@
     const later = onsets.filter((t) => t > time[frame] + 1e-12).sort((a, b) => a - b);
     if (later.length) applyFrame(frameAt(later[0]) + 1);
   });
-  if (runs.length < 2) modeSel.disabled = true;
-  document.getElementById("mag").textContent = "clearance drawn \u00d7" + mag;
+  if (idealRun < 0) modeSel.disabled = true;
+  document.getElementById("mag").textContent =
+    "clearance drawn \u00d7" + mag +
+    (tracks.some((c) => mag * c.c > 0.95 * c.draw_outer) ? " (more than the socket: inner parts shrunk)" : "");
 
   function setPlaying(on) {
     playing = on;
@@ -328,7 +373,7 @@
     playBtn.textContent = playing ? "\u275a\u275a pause" : "\u25b6 play";
   }
   function setMode(m) {
-    mode = runs.length > 1 ? m : "clearance";
+    mode = idealRun >= 0 ? m : "clearance";
     modeSel.value = mode;
     dirty = true;
   }
@@ -350,12 +395,11 @@
     const h = (cv.height = cv.clientHeight);
     const ctx = cv.getContext("2d");
     ctx.clearRect(0, 0, w, h);
-    const t0 = time[0], t1 = time[NF - 1] > t0 ? time[NF - 1] : t0 + 1;
     tracks.forEach((c, j) => {
       ctx.fillStyle = ["#c0392b", "#8e44ad", "#16a085", "#d35400", "#2c3e50"][j % 5];
       for (const e of c.events) {
         if (e[1] <= 0) continue;
-        ctx.fillRect(((e[0] - t0) / (t1 - t0)) * (w - 1), 0, 1, h);
+        ctx.fillRect((frameAt(e[0]) / Math.max(NF - 1, 1)) * (w - 1), 0, 1, h); // (slider: frames)
       }
     });
   }
@@ -390,10 +434,10 @@
     const show = (k) => roots.forEach((r, i) => (r.visible = k === "all" || k === i));
     glyphs.forEach((g) => (g.group.visible = mode !== "ideal"));
     renderer.setScissorTest(mode === "side");
-    if (mode === "side" && runs.length > 1) {
+    if (mode === "side" && idealRun >= 0) {
       camera.aspect = w / 2 / h;
       camera.updateProjectionMatrix();
-      for (const [i, x] of [[0, 0], [primary, w / 2]]) {
+      for (const [i, x] of [[idealRun, 0], [primary, w / 2]]) {
         show(i);
         renderer.setViewport(x, 0, w / 2, h);
         renderer.setScissor(x, 0, w / 2, h);
@@ -402,7 +446,7 @@
     } else {
       camera.aspect = w / h;
       camera.updateProjectionMatrix();
-      show(mode === "overlay" ? "all" : mode === "ideal" ? 0 : primary);
+      show(mode === "overlay" ? "all" : mode === "ideal" ? idealRun : primary);
       renderer.setViewport(0, 0, w, h);
       renderer.render(scene, camera);
     }
@@ -467,9 +511,25 @@
       const j = tracks.findIndex((c) => c.name === name);
       return glyphs[j].ball.position.toArray();
     },
+    // how a clearance joint is drawn: kind and drawn socket radius [m]
+    clearance(name) {
+      const c = tracks.find((x) => x.name === name);
+      return { kind: c.kind, socketRadius: c.draw_outer, magnification: mag };
+    },
+    // the drawn force arrow of a clearance joint (outer marker frame): its tail, unit
+    // direction, length and head (= tail + length * direction, the contact point)
     arrow(name) {
-      const j = tracks.findIndex((c) => c.name === name);
-      return { visible: glyphs[j].arrow.visible, colour: "#" + glyphs[j].arrow.line.material.color.getHexString() };
+      const a = glyphs[tracks.findIndex((c) => c.name === name)].arrow;
+      const dir = new THREE.Vector3(0, 1, 0).applyQuaternion(a.quaternion);
+      const len = a.line.scale.y + a.cone.scale.y;
+      return {
+        visible: a.visible,
+        colour: "#" + a.line.material.color.getHexString(),
+        tail: a.position.toArray(),
+        direction: dir.toArray(),
+        length: len,
+        head: a.position.clone().addScaledVector(dir, len).toArray(),
+      };
     },
     setVisible(run, body, on) {
       const i = runs.findIndex((r) => r.name === run);
