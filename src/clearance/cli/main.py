@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import os
 import sys
@@ -479,7 +480,6 @@ def view(
     """A 3-D viewer of a result: one self-contained HTML file (no network needed) with the
     mechanism in motion, each clearance joint magnified with its contact force and a
     close-up, ideal and clearance runs overlaid or side by side."""
-    from clearance.view import SceneError
     from clearance.view.html import write_viewer
 
     if magnification is not None and not magnification > 0:
@@ -488,14 +488,8 @@ def view(
         )
         raise typer.Exit(2)
     names = [r.strip() for r in runs.split(",") if r.strip()] if runs else None
-    try:
+    with _view_errors(result):
         path = write_viewer(result, out, magnification=magnification, runs=names)
-    except SceneError as e:
-        typer.echo(f"error: {e}", err=True)
-        raise typer.Exit(2) from None
-    except OSError as e:
-        typer.echo(f"error: {result}: not a clearance result file ({e})", err=True)
-        raise typer.Exit(2) from None
     typer.echo(f"viewer: {path} ({path.stat().st_size / 1e6:.1f} MB); open it in a browser")
 
 
@@ -515,7 +509,6 @@ def animate(
     """The mechanism in motion as a video for talks (MP4 or GIF): the 3-D scene with a time
     stamp and a close-up of each clearance joint. No display needed; ffmpeg comes with the
     imageio-ffmpeg package."""
-    from clearance.view import SceneError
     from clearance.view.video import render_video
 
     wh = None
@@ -534,16 +527,10 @@ def animate(
             step[0] = i * 10 // n
             typer.echo(f"  frame {i}/{n}")
 
-    try:
+    with _view_errors(result):
         info = render_video(
             result, out, fps=fps, speed=speed, size=wh, ghost=ideal, progress=progress
         )
-    except SceneError as e:
-        typer.echo(f"error: {e}", err=True)
-        raise typer.Exit(2) from None
-    except OSError as e:
-        typer.echo(f"error: {result}: not a clearance result file ({e})", err=True)
-        raise typer.Exit(2) from None
     typer.echo(
         f"video: {info.path} ({info.frames} frames, {info.duration:.1f} s at {info.fps:g} fps, "
         f"{info.size[0]}x{info.size[1]}, {info.speed:g} x real time)"
@@ -562,9 +549,7 @@ def report(
     """(Re)build a report: one self-contained HTML page with the summary table, the figures,
     the 3-D viewer, the scenario and the version; for a study, the table of cases, the
     summary plots and a viewer per case."""
-    from clearance.view import SceneError
-
-    try:
+    with _view_errors(path):
         if path.is_dir():
             from clearance.scenario import ScenarioError
             from clearance.sweep.report import study_report
@@ -579,12 +564,6 @@ def report(
             from clearance.view.report import write_report
 
             written = write_report(path, out)
-    except SceneError as e:
-        typer.echo(f"error: {e}", err=True)
-        raise typer.Exit(2) from None
-    except OSError as e:
-        typer.echo(f"error: {path}: {e}", err=True)
-        raise typer.Exit(2) from None
     typer.echo(f"report: {written} ({written.stat().st_size / 1e6:.1f} MB)")
 
 
@@ -821,6 +800,22 @@ class LiveProgress:
         with self.lock:  # (no redraw from the other run's thread in between)
             self.clear()
             typer.echo(msg)
+
+
+@contextlib.contextmanager
+def _view_errors(path: Path):
+    """`view`, `animate`, `report`: a SceneError or an unreadable file is exit 2 with its
+    message (no traceback)."""
+    from clearance.view import SceneError
+
+    try:
+        yield
+    except SceneError as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from None
+    except OSError as e:
+        typer.echo(f"error: {path}: {e}", err=True)
+        raise typer.Exit(2) from None
 
 
 def _load(path: Path, loader):

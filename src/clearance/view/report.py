@@ -307,15 +307,10 @@ def write_report(
     atomically. scene / summary / figures: from the caller's memory (`clearance run`);
     else read from the file, the figures from the `figures` folder next to it, drawn
     there first when it has none and `draw`."""
-    from clearance.view.scene import _groups, load_scene
+    from clearance.view.scene import load_scene, read_file_layout
 
     result = Path(result)
-    if not result.is_file():
-        raise SceneError(f"{result}: no such file")
-    try:
-        groups, root = _groups(result)
-    except OSError as e:
-        raise SceneError(f"{result}: not a NetCDF result file ({e})") from None
+    _, root = read_file_layout(result)
     out = Path(out) if out is not None else result.parent / REPORT
     error = ""
     if scene is None:

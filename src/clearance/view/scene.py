@@ -107,6 +107,17 @@ def _groups(path: Path) -> tuple[list[str], dict]:
     return groups, root
 
 
+def read_file_layout(path: Path) -> tuple[list[str], dict]:
+    """(run groups in order, root attributes) of a result file; a SceneError naming the
+    file when it is missing or not NetCDF."""
+    if not path.is_file():
+        raise SceneError(f"{path}: no such file")
+    try:
+        return _groups(path)
+    except OSError as e:
+        raise SceneError(f"{path}: not a NetCDF result file ({e})") from None
+
+
 def _open(path: Path, group: str):
     import xarray as xr
 
@@ -234,12 +245,7 @@ def load_scene(
     file keeps in its `view` attribute).
     """
     path = Path(path)
-    if not path.is_file():
-        raise SceneError(f"{path}: no such file")
-    try:
-        groups, root = _groups(path)
-    except OSError as e:
-        raise SceneError(f"{path}: not a NetCDF result file ({e})") from None
+    groups, root = read_file_layout(path)
     if not groups:
         raise SceneError(f"{path}: no run groups; expected a result file of `clearance run`")
     if runs is not None:
