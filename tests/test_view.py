@@ -383,7 +383,7 @@ def _background_fraction(img: np.ndarray) -> float:
 
 
 def test_mp4_has_the_expected_frames_size_and_content(default_run, tmp_path):
-    """fps 10 at 0.5 x real time over the 2 s run: 41 frames, 4.1 s; a decoded frame at a
+    """fps 10 at real time over the 2 s run: 21 frames, 2.1 s; a decoded frame at a
     known time is the scene drawn at that time (to the codec's loss), not blank, and
     differs from the first."""
     import imageio_ffmpeg
@@ -391,22 +391,22 @@ def test_mp4_has_the_expected_frames_size_and_content(default_run, tmp_path):
     from clearance.view.video import _Drawing, render_video
 
     sc = load_scene(default_run)
-    info = render_video(sc, tmp_path / "a.mp4", fps=10, speed=0.5, size=(640, 360))
-    assert info.frames == 41 and info.duration == pytest.approx(4.1)
-    assert imageio_ffmpeg.count_frames_and_secs(str(info.path)) == (41, 4.1)
+    info = render_video(sc, tmp_path / "a.mp4", fps=10, speed=1.0, size=(640, 360))
+    assert info.frames == 21 and info.duration == pytest.approx(2.1)
+    assert imageio_ffmpeg.count_frames_and_secs(str(info.path)) == (21, 2.1)
     gen = imageio_ffmpeg.read_frames(str(info.path))
     meta = gen.send(None)
     assert meta["size"] == (640, 360) and meta["fps"] == 10.0
     frames = [np.frombuffer(f, np.uint8).reshape(360, 640, 3) for f in gen]
-    assert len(frames) == 41
-    j = 20  # t = 1.0 s
+    assert len(frames) == 21
+    j = 10  # t = 1.0 s
     assert info.times[j] == pytest.approx(1.0)
     k = int(np.searchsorted(sc.time, 1.0, side="right") - 1)
     assert info.scene_frames[j] == k
     expected = _Drawing(sc, (640, 360), 100.0, True).draw(k, 1.0).astype(float)
     err = np.abs(frames[j].astype(float) - expected)
     assert err.mean() < 4.0  # H.264 loss, a few grey levels
-    for other in (0, 40):  # a frame at another time is farther from it
+    for other in (0, 20):  # a frame at another time is farther from it
         assert np.abs(frames[other].astype(float) - expected).mean() > err.mean()
     assert _background_fraction(frames[j]) < 0.9  # the mechanism and the insets are drawn
 
@@ -566,9 +566,9 @@ def test_video_of_sliding_joints(slider_crank, tmp_path):
 
     from clearance.view.video import render_video
 
-    info = render_video(slider_crank, tmp_path / "c.gif", fps=10, speed=0.001, size=(480, 270))
-    assert info.frames == 41  # 4 ms at 1 ms of motion per video second, 10 fps
+    info = render_video(slider_crank, tmp_path / "c.gif", fps=5, speed=0.001, size=(480, 270))
+    assert info.frames == 21  # 4 ms at 1 ms of motion per video second, 5 fps
     with Image.open(info.path) as im:
-        assert im.n_frames == 41 and im.size == (480, 270)
+        assert im.n_frames == 21 and im.size == (480, 270)
     with pytest.raises(SceneError, match="at most"):
         render_video(slider_crank, tmp_path / "d.gif", fps=25, speed=1e-9)
