@@ -741,6 +741,7 @@ def collect(
     for f in (o.dataset, o.parquet, o.csv, *o.plots):
         if f is not None:
             typer.echo(str(f))
+    typer.echo(f"the study's report, with a 3-D viewer per case: clearance report {folder}")
 
 
 def _terminate(signum, frame):  # SIGTERM (a batch system's time limit) stops like Ctrl-C
