@@ -572,3 +572,65 @@ def test_video_of_sliding_joints(slider_crank, tmp_path):
         assert im.n_frames == 21 and im.size == (480, 270)
     with pytest.raises(SceneError, match="at most"):
         render_video(slider_crank, tmp_path / "d.gif", fps=25, speed=1e-9)
+
+
+def test_files_without_frames_or_geometry(default_run, tmp_path):
+    """Files without the geometry attribute are drawn from the scenario they hold (the same
+    shapes); files with every body but no frames are drawn from those, with the frames
+    chosen as the file writer would (contacts kept)."""
+    import shutil
+
+    import netCDF4
+
+    from clearance.io.dataset import result_to_dataset, save_results
+
+    ref = load_scene(default_run)
+    nogeo = tmp_path / "nogeo.nc"
+    shutil.copy(default_run, nogeo)
+    with netCDF4.Dataset(nogeo, "a") as d:
+        for g in d.groups.values():
+            g.delncattr("geometry")
+    sc = load_scene(nogeo)
+    assert sc.shapes == ref.shapes and sc.geometry["clearances"] == ref.geometry["clearances"]
+
+    s = with_overrides(
+        load_scenario(default_scenario_path("ups_upu")), {"trajectory.duration": 0.1}
+    )
+    o = run_scenario(s, out_dir=tmp_path / "run", log=None, figures=False, defer_write=True)
+    groups = ("bodies", "clearance", "actuators", "energy")  # no "frames"
+    ds = {
+        k: result_to_dataset(r, outputs=groups)
+        for k, r in (("ideal", o.ideal), ("clearance", o.clearance))
+    }
+    f = save_results(tmp_path / "bodies.nc", ds)
+    sc = load_scene(f)
+    r = o.clearance
+    k = frame_samples(
+        r.t,
+        event_times=r.events[:, 0],
+        contact_flag=r.contact_state[:, :, 0],
+        contact_force=_point_force(r),
+    )
+    assert np.array_equal(sc.time, r.t[k])
+    nb = len(sc.bodies)
+    q = r.q[k].reshape(k.size, nb, 7)
+    assert np.allclose(sc.runs[-1].poses, q, atol=1e-6)
+
+
+def _point_force(r):
+    from clearance.io.dataset import _POINT_FORCE
+
+    return _POINT_FORCE.take(r.contact_points)
+
+
+def test_bodies_a_run_lacks_are_hidden(default_run, browser, tmp_path):
+    """A body only the clearance run has (a universal clearance's cross) is not drawn as
+    a ghost of the ideal run at the origin."""
+    sc = load_scene(default_run)
+    sc.runs[0].present = [0 if b == "tele_2" else 1 for b in sc.bodies]
+    page = write_viewer(sc, tmp_path / "p.html")
+    browser.get(page.as_uri())
+    wait_for(browser, "window.viewer && window.viewer.ready")
+    assert browser.execute_script("return window.viewer.visible('ideal', 'tele_2')") is False
+    assert browser.execute_script("return window.viewer.visible('ideal', 'tele_1')") is True
+    assert browser.execute_script("return window.viewer.visible('clearance', 'tele_2')") is True

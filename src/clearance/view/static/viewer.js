@@ -531,6 +531,9 @@
         head: a.position.clone().addScaledVector(dir, len).toArray(),
       };
     },
+    visible(run, body) {
+      return roots[runs.findIndex((r) => r.name === run)].userData.bodies[bodyIndex[body]].visible;
+    },
     setVisible(run, body, on) {
       const i = runs.findIndex((r) => r.name === run);
       roots[i].userData.bodies[bodyIndex[body]].visible = !!on;
