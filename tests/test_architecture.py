@@ -33,6 +33,7 @@ LAYERS = [
     {"<root>"},  # clearance/__init__.py: the public API (re-exports of the core)
     {"io"},  # files: NetCDF, CSV, MAT
     {"nonlinear"},  # steady states, Poincare maps, spectra, Lyapunov exponents (on runs, files)
+    {"wear"},  # wear maps and Archard's law (issue 16: not yet in the dynamics)
     {"mechanisms"},  # ready-made mechanisms
     {"scenario"},  # scenario files
     {"plot"},
@@ -65,6 +66,7 @@ NOT_FROM_CORE = {
     "parallel",
     "nonlinear",
     "view",
+    "wear",
 }
 KERNELS = {"kinematics", "constraints", "contact", "dynamics", "integrate", "compile"}
 

@@ -44,6 +44,7 @@ _NO_KERNELS = (
     "store",
     "sweep",
     "view",
+    "wear",
 )
 
 

@@ -1,0 +1,173 @@
+"""A wear-depth map on a spherical surface (a socket, or a ball) in its body's frame.
+
+First step of issue 16 (wear): the surface grid, its exact cell areas and worn volume, and
+Archard's law spread over the grid with a Hertz pressure patch. Not yet connected to the
+dynamics (the worn gap function and the wear loop come next; docs/notes/wear-literature.md
+has the background).
+
+The grid is an equiangular cubed sphere: 6 faces of n x n cells, a face's points at
+normalize(N + tan(xi) U + tan(eta) V) for xi, eta in [-pi/4, pi/4]. Unlike a
+latitude-longitude grid it has no poles (a socket's load axis, where the wear is, would
+be one) and its cells differ in area by at most a factor of about 1.3. Exact cell areas
+follow from the area of a gnomonic rectangle, atan(X Y / sqrt(1 + X^2 + Y^2)) on the unit
+sphere for X = tan(xi), Y = tan(eta) measured from the face centre; they sum to 4 pi R^2.
+
+Depth h >= 0 [m] is stored per cell (material removed along the surface normal). The
+volume removed is the shell volume, per cell Omega ((R + h)^3 - R^3) / 3 with Omega the
+cell's solid angle, for a socket (material removed outward) and
+Omega (R^3 - (R - h)^3) / 3 for a ball.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["SphereWearMap", "archard_hertz", "hertz_conformal"]
+
+# face k: (N, U, V) with U x V = N
+_FACES = np.array(
+    [
+        [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
+        [[-1, 0, 0], [0, -1, 0], [0, 0, 1]],
+        [[0, 1, 0], [-1, 0, 0], [0, 0, 1]],
+        [[0, -1, 0], [1, 0, 0], [0, 0, 1]],
+        [[0, 0, 1], [1, 0, 0], [0, 1, 0]],
+        [[0, 0, -1], [0, 1, 0], [1, 0, 0]],
+    ],
+    dtype=float,
+)
+_Q = math.pi / 4
+
+
+def _corner_area(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """Unit-sphere area of the gnomonic rectangle [0, X] x [0, Y] (signed)."""
+    return np.arctan(X * Y / np.sqrt(1.0 + X * X + Y * Y))
+
+
+@dataclass
+class SphereWearMap:
+    """Wear depth on a sphere of `radius` [m]: n x n cells per cube face (6 n^2 cells).
+
+    outer: True for a socket (the surface is concave seen from the centre, material is
+    removed outward); False for a ball. depth: (6, n, n) [m].
+    """
+
+    radius: float
+    n: int = 32
+    outer: bool = True
+    depth: np.ndarray = field(default=None, repr=False)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        if not (self.radius > 0 and math.isfinite(self.radius)):
+            raise ValueError(f"radius = {self.radius}: expected a finite number > 0")
+        if int(self.n) != self.n or self.n < 1:
+            raise ValueError(f"n = {self.n}: expected an integer >= 1")
+        self.n = int(self.n)
+        if self.depth is None:
+            self.depth = np.zeros((6, self.n, self.n))
+        elif self.depth.shape != (6, self.n, self.n):
+            raise ValueError(
+                f"depth has shape {self.depth.shape}, expected (6, {self.n}, {self.n})"
+            )
+        edges = np.tan(np.linspace(-_Q, _Q, self.n + 1))
+        X0, Y0 = np.meshgrid(edges[:-1], edges[:-1], indexing="ij")
+        X1, Y1 = np.meshgrid(edges[1:], edges[1:], indexing="ij")
+        omega = _corner_area(X1, Y1) - _corner_area(X0, Y1) - _corner_area(X1, Y0)
+        omega += _corner_area(X0, Y0)
+        self.solid_angle = np.broadcast_to(omega, (6, self.n, self.n)).copy()
+        mid = np.tan(np.linspace(-_Q, _Q, 2 * self.n + 1)[1::2])
+        Xc, Yc = np.meshgrid(mid, mid, indexing="ij")
+        d = _FACES[:, 0, None, None, :] + Xc[None, :, :, None] * _FACES[:, 1, None, None, :]
+        d = d + Yc[None, :, :, None] * _FACES[:, 2, None, None, :]
+        self.centres = d / np.linalg.norm(d, axis=-1, keepdims=True)  # (6, n, n, 3)
+
+    @property
+    def areas(self) -> np.ndarray:
+        """Cell areas on the unworn surface [m^2], (6, n, n)."""
+        return self.solid_angle * self.radius**2
+
+    def volume(self) -> float:
+        """Volume of material removed [m^3] (module docstring)."""
+        R, h = self.radius, np.clip(self.depth, 0.0, None)
+        shell = (R + h) ** 3 - R**3 if self.outer else R**3 - np.clip(R - h, 0.0, None) ** 3
+        return float(np.sum(self.solid_angle * shell) / 3.0)
+
+    def max_depth(self) -> float:
+        return float(self.depth.max())
+
+    def cell_of(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(face, i, j) of the cells holding directions u (..., 3) (any length)."""
+        u = np.asarray(u, dtype=float)
+        proj = np.einsum("fk,...k->...f", _FACES[:, 0], u)
+        f = np.argmax(proj, axis=-1)
+        N, U, V = _FACES[f, 0], _FACES[f, 1], _FACES[f, 2]
+        dn = np.sum(N * u, axis=-1)
+        xi = np.arctan2(np.sum(U * u, axis=-1), dn)
+        eta = np.arctan2(np.sum(V * u, axis=-1), dn)
+        i = np.clip(((xi + _Q) / (2 * _Q) * self.n).astype(np.int64), 0, self.n - 1)
+        j = np.clip(((eta + _Q) / (2 * _Q) * self.n).astype(np.int64), 0, self.n - 1)
+        return f, i, j
+
+    def depth_at(self, u: np.ndarray) -> np.ndarray:
+        """The depth of the cells holding directions u (piecewise constant; the smooth
+        interpolant the worn gap function needs comes with that step)."""
+        f, i, j = self.cell_of(u)
+        return self.depth[f, i, j]
+
+
+def hertz_conformal(
+    force: float, r_inner: float, r_outer: float, e_star: float
+) -> tuple[float, float]:
+    """Hertz contact of a ball (r_inner) in a socket (r_outer > r_inner): (a, p0), the
+    contact radius [m] and peak pressure [Pa] under `force` [N]; e_star [Pa] the contact
+    modulus 1 / ((1 - nu1^2) / E1 + (1 - nu2^2) / E2). R* = r_inner r_outer / (r_outer -
+    r_inner), a = (3 F R* / (4 E*))^(1/3), p0 = 3 F / (2 pi a^2) (Johnson, Contact
+    Mechanics ch. 4; valid while a << R: docs/notes/wear-literature.md section 2)."""
+    if not r_outer > r_inner > 0:
+        raise ValueError(f"radii {r_inner}, {r_outer}: expected 0 < inner < outer")
+    if force <= 0:
+        return 0.0, 0.0
+    r_star = r_inner * r_outer / (r_outer - r_inner)
+    a = (3.0 * force * r_star / (4.0 * e_star)) ** (1.0 / 3.0)
+    return a, 3.0 * force / (2.0 * math.pi * a * a)
+
+
+def archard_hertz(
+    surface: SphereWearMap,
+    normal: np.ndarray,
+    force: float,
+    contact_radius: float,
+    slip: float,
+    k_w: float,
+) -> np.ndarray:
+    """Archard's law for one contact over a slip distance: the depth added to each cell
+    (6, n, n) [m], also added to `surface.depth`.
+
+    normal: the contact direction from the sphere's centre (surface frame); force: normal
+    force F [N]; contact_radius: a [m] (`hertz_conformal`); slip: sliding distance s [m]
+    (|v_slip| dt); k_w: wear coefficient k / H [m^2/N]. The pressure is Hertz's,
+    p0 sqrt(1 - r^2 / a^2) with r the arc length from the contact point, sampled at the
+    cell centres and scaled so that sum(p A) = F: the volume removed is k_w F s exactly
+    (to first order in h / R), whatever the grid; the depth profile converges with it. A
+    patch smaller than the cells falls into the cell holding the contact point.
+    """
+    if force <= 0 or slip <= 0:
+        return np.zeros_like(surface.depth)
+    n = np.asarray(normal, dtype=float)
+    n = n / np.linalg.norm(n)
+    R = surface.radius
+    psi = np.arccos(np.clip(surface.centres @ n, -1.0, 1.0))
+    r = R * psi
+    p = np.where(r < contact_radius, np.sqrt(np.clip(1.0 - (r / contact_radius) ** 2, 0, 1)), 0)
+    total = float(np.sum(p * surface.areas))
+    if total <= 0.0:  # the patch misses every cell centre
+        p = np.zeros_like(p)
+        f, i, j = surface.cell_of(n)
+        p[f, i, j] = 1.0
+        total = float(surface.areas[f, i, j])
+    dh = k_w * slip * force * p / total
+    surface.depth += dh
+    return dh

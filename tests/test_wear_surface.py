@@ -1,0 +1,108 @@
+"""Wear maps on a sphere (issue 16, first step): exact cell areas, the worn volume against
+closed forms (a uniform cap, the imprint of a ball pressed into its socket), Archard's law
+with a Hertz patch: volume k_w F s whatever the grid, depth profile converging to
+k_w p0 s; Hertz's pressure integrating to the load (quadrature written here)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from clearance.wear import SphereWearMap, archard_hertz, hertz_conformal
+
+R = 0.0153  # the default socket radius [m]
+
+
+@pytest.mark.parametrize("n", [1, 3, 16, 64])
+def test_cells_tile_the_sphere(n):
+    s = SphereWearMap(R, n)
+    assert s.areas.sum() == pytest.approx(4 * math.pi * R**2, rel=1e-12)
+    assert s.areas.max() / s.areas.min() < 1.5
+    f, i, j = s.cell_of(s.centres.reshape(-1, 3))  # each centre lies in its own cell
+    idx = np.indices((6, n, n)).reshape(3, -1)
+    assert np.array_equal(np.stack([f, i, j]), idx)
+
+
+def _cap_volume(h0, alpha, outer=True):
+    shell = (R + h0) ** 3 - R**3 if outer else R**3 - (R - h0) ** 3
+    return 2 * math.pi * (1 - math.cos(alpha)) * shell / 3
+
+
+@pytest.mark.parametrize("outer", [True, False])
+def test_uniform_cap_volume_converges(outer):
+    """A cap of half-angle 20 deg worn to 0.1 mm, about a direction off every axis."""
+    u = np.array([0.3, -0.5, 0.81])
+    u /= np.linalg.norm(u)
+    alpha, h0 = math.radians(20), 1e-4
+    errs = []
+    for n in (16, 32, 64, 128):
+        s = SphereWearMap(R, n, outer=outer)
+        s.depth[np.arccos(np.clip(s.centres @ u, -1, 1)) < alpha] = h0
+        errs.append(abs(s.volume() / _cap_volume(h0, alpha, outer) - 1))
+    # (the staircase at the cap's rim: first order in the cell size, not monotone)
+    assert errs[-1] < 0.005 and max(errs[2:]) < errs[0]
+
+
+def test_imprint_volume():
+    """The socket worn to the imprint of the ball pushed d0 beyond contact (clearance c):
+    h = max(0, d0 cos psi - c (1 - cos psi)), V = pi R^2 d0^2 / (d0 + c) to first order
+    in h / R (docs/notes/wear-literature.md section 6, derived there and here)."""
+    d0, c = 2e-5, 3e-4
+    u = np.array([0.0, 0.6, 0.8])
+    s = SphereWearMap(R, 96)
+    cos = s.centres @ u
+    s.depth = np.maximum(0.0, d0 * cos - c * (1 - cos))
+    exact = math.pi * R**2 * d0**2 / (d0 + c)
+    assert s.volume() == pytest.approx(exact, rel=0.01)
+    # the derivation, by quadrature: 2 pi R^2 int h(psi) sin(psi) dpsi
+    val, _ = quad(lambda p: max(0.0, d0 * math.cos(p) - c * (1 - math.cos(p))) * math.sin(p), 0, 1)
+    assert 2 * math.pi * R**2 * val == pytest.approx(exact, rel=1e-9)
+
+
+def test_hertz_pressure_integrates_to_the_load():
+    E = 207e9 / (2 * (1 - 0.3**2))  # steel on steel
+    a, p0 = hertz_conformal(1000.0, 0.015, R, E)
+    f, _ = quad(lambda r: p0 * math.sqrt(1 - (r / a) ** 2) * 2 * math.pi * r, 0, a)
+    assert f == pytest.approx(1000.0, rel=1e-9)
+    r_star = 0.015 * R / (R - 0.015)
+    delta = a * a / r_star  # the approach: F = 4/3 E* sqrt(R*) delta^1.5 (Hertz)
+    assert 4 / 3 * E * math.sqrt(r_star) * delta**1.5 == pytest.approx(1000.0, rel=1e-12)
+    assert hertz_conformal(0.0, 0.015, R, E) == (0.0, 0.0)
+    with pytest.raises(ValueError):
+        hertz_conformal(1.0, R, 0.015, E)
+
+
+def test_archard_volume_is_k_f_s_and_the_depth_converges():
+    """1000 N over 1 m of sliding at k_w = 1e-14 m^2/N, at a contact direction off the
+    axes: the volume (first order) is k_w F s on every grid; every cell's depth is
+    k_w s p(r) of Hertz's pressure at its centre, up to the grid's quadrature of the load,
+    whose error falls as the grid resolves the patch (a = 1.7 mm, 6.4 deg)."""
+    E = 207e9 / (2 * (1 - 0.3**2))
+    F, s_slide, k_w = 1000.0, 1.0, 1e-14
+    a, p0 = hertz_conformal(F, 0.015, R, E)
+    n_dir = np.array([0.2, 0.3, -0.93])
+    n_dir /= np.linalg.norm(n_dir)
+    errs = []
+    for n in (16, 32, 128):
+        s = SphereWearMap(R, n)
+        dh = archard_hertz(s, n_dir, F, a, s_slide, k_w)
+        assert np.sum(dh * s.areas) == pytest.approx(k_w * F * s_slide, rel=1e-12)
+        assert s.volume() == pytest.approx(k_w * F * s_slide, rel=1e-6)  # h / R ~ 1e-7
+        r = R * np.arccos(np.clip(s.centres @ n_dir, -1, 1))
+        hertz = k_w * s_slide * p0 * np.sqrt(np.clip(1 - (r / a) ** 2, 0, None))
+        inside = hertz > 0
+        ratio = dh[inside] / hertz[inside]
+        assert np.ptp(ratio) < 1e-12 and not dh[~inside].any()  # Hertz's profile, scaled
+        errs.append(abs(ratio[0] - 1))
+    assert errs[-1] < 0.002 and errs[-1] < errs[0] / 5
+
+
+def test_a_patch_smaller_than_the_cells_goes_into_one_cell():
+    s = SphereWearMap(R, 4)
+    dh = archard_hertz(s, [1.0, 0.1, 0.05], 10.0, 1e-5, 0.5, 1e-13)
+    assert np.count_nonzero(dh) == 1
+    assert np.sum(dh * s.areas) == pytest.approx(1e-13 * 10.0 * 0.5, rel=1e-12)
+    assert not archard_hertz(s, [1, 0, 0], 0.0, 1e-5, 0.5, 1e-13).any()
