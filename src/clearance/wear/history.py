@@ -20,11 +20,9 @@ the same samples is returned too, for the volume balance k_w * that.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from clearance.wear.surface import SphereWearMap, hertz_conformal
+from clearance.wear.surface import SphereWearMap, hertz_conformal, hertz_patch
 
 __all__ = ["socket_wear", "trapezoid_weights"]
 
@@ -70,27 +68,14 @@ def socket_wear(
     fn = np.abs(np.asarray(ds["contact_force"].values[:, j], dtype=float))
     slip = np.linalg.norm(np.asarray(ds["slip_velocity"].values[:, j], dtype=float), axis=1)
     work = 0.0
-    centres = m.centres.reshape(-1, 3)
-    areas = m.areas.reshape(-1)
     depth = m.depth.reshape(-1)  # (a view: adds go to the map)
-    cos_min = 1.0
     for k in np.flatnonzero((fn > 0) & (slip > 0) & (w > 0)):
         norm = float(np.linalg.norm(e[k]))
         if norm == 0.0:
             continue
-        u = e[k] / norm
-        a, p0 = hertz_conformal(float(fn[k]), r_in, r_out, e_star)
-        cos_min = math.cos(min(a / r_out, math.pi))
-        near = np.flatnonzero(centres @ u > cos_min - 1e-12)
-        r = r_out * np.arccos(np.clip(centres[near] @ u, -1.0, 1.0))
-        p = np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
-        total = float(np.sum(p * areas[near]))
+        a, _ = hertz_conformal(float(fn[k]), r_in, r_out, e_star)
         ds_k = float(slip[k] * w[k])
-        if total <= 0.0:  # the patch misses every cell centre: the cell holding u
-            f, i, jj = m.cell_of(u)
-            flat = np.ravel_multi_index((f, i, jj), m.depth.shape)
-            depth[flat] += k_w * fn[k] * ds_k / areas[flat]
-        else:
-            depth[near] += k_w * fn[k] * ds_k * p / total
+        cells, dh = hertz_patch(m, e[k] / norm, float(fn[k]), a, ds_k, k_w)
+        depth[cells] += dh
         work += float(fn[k]) * ds_k
     return m, work

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["SphereWearMap", "archard_hertz", "hertz_conformal"]
+__all__ = ["SphereWearMap", "archard_hertz", "hertz_conformal", "hertz_patch"]
 
 # face k: (N, U, V) with U x V = N
 _FACES = np.array(
@@ -154,20 +154,40 @@ def archard_hertz(
     (to first order in h / R), whatever the grid; the depth profile converges with it. A
     patch smaller than the cells falls into the cell holding the contact point.
     """
-    if force <= 0 or slip <= 0:
-        return np.zeros_like(surface.depth)
-    n = np.asarray(normal, dtype=float)
-    n = n / np.linalg.norm(n)
-    R = surface.radius
-    psi = np.arccos(np.clip(surface.centres @ n, -1.0, 1.0))
-    r = R * psi
-    p = np.where(r < contact_radius, np.sqrt(np.clip(1.0 - (r / contact_radius) ** 2, 0, 1)), 0)
-    total = float(np.sum(p * surface.areas))
-    if total <= 0.0:  # the patch misses every cell centre
-        p = np.zeros_like(p)
-        f, i, j = surface.cell_of(n)
-        p[f, i, j] = 1.0
-        total = float(surface.areas[f, i, j])
-    dh = k_w * slip * force * p / total
+    dh = np.zeros_like(surface.depth)
+    cells, values = hertz_patch(surface, normal, force, contact_radius, slip, k_w)
+    dh.reshape(-1)[cells] = values
     surface.depth += dh
     return dh
+
+
+def hertz_patch(
+    surface: SphereWearMap,
+    normal: np.ndarray,
+    force: float,
+    contact_radius: float,
+    slip: float,
+    k_w: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(flat cell indices, depth increments [m]) of `archard_hertz`, without adding them:
+    only the cells whose centres lie in the patch (or the one cell holding the contact
+    point when the patch misses every centre)."""
+    if force <= 0 or slip <= 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0)
+    u = np.asarray(normal, dtype=float)
+    u = u / np.linalg.norm(u)
+    R = surface.radius
+    centres = surface.centres.reshape(-1, 3)
+    areas = surface.areas.reshape(-1)
+    cos_min = math.cos(min(contact_radius / R, math.pi))
+    near = np.flatnonzero(centres @ u > cos_min - 1e-12)
+    r = R * np.arccos(np.clip(centres[near] @ u, -1.0, 1.0))
+    p = np.sqrt(np.clip(1.0 - (r / contact_radius) ** 2, 0.0, None))
+    keep = p > 0
+    near, p = near[keep], p[keep]
+    total = float(np.sum(p * areas[near]))
+    if total <= 0.0:  # the patch misses every cell centre: the cell holding u
+        f, i, j = surface.cell_of(u)
+        cell = int(np.ravel_multi_index((int(f), int(i), int(j)), surface.depth.shape))
+        return np.array([cell]), np.array([k_w * force * slip / areas[cell]])
+    return near, k_w * force * slip * p / total
