@@ -20,7 +20,7 @@ from clearance.pipeline import run_scenario
 from clearance.scenario import default_scenario_path, load_scenario, with_overrides
 from clearance.view import SceneError, load_scene
 from clearance.view.html import write_viewer
-from clearance.view.shapes import _rot, nice_magnification
+from clearance.view.shapes import nice_magnification
 
 
 @pytest.fixture(scope="module")
@@ -35,6 +35,18 @@ def default_run(tmp_path_factory):
 @pytest.fixture(scope="module")
 def page(default_run):
     return write_viewer(default_run, default_run.with_suffix(".html"))
+
+
+def _rot(q) -> np.ndarray:
+    """Rotation matrix of Euler parameters (e0 scalar), written here for the checks."""
+    e0, e1, e2, e3 = (float(x) for x in np.asarray(q) / np.linalg.norm(q))
+    return np.array(
+        [
+            [1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
+            [2 * (e1 * e2 + e0 * e3), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e0 * e1)],
+            [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), 1 - 2 * (e1 * e1 + e2 * e2)],
+        ]
+    )
 
 
 def _open(path, group):

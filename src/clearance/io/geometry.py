@@ -83,6 +83,7 @@ def mechanism_geometry(mech: Mechanism) -> dict:
         for m in (jt.marker_i, jt.marker_j):
             markers.setdefault(m, _marker(mech, m))
         cl = getattr(jt, "clearance", None)
+        d = None if cl is None else _clearance(jt, cl)
         joints.append(
             {
                 "name": jt.name,
@@ -91,11 +92,10 @@ def mechanism_geometry(mech: Mechanism) -> dict:
                 "marker_j": jt.marker_j,
                 "body_i": mech.markers[jt.marker_i].body,
                 "body_j": mech.markers[jt.marker_j].body,
-                "clearance": None if cl is None else _clearance(jt, cl)["kind"],
+                "clearance": None if d is None else d["kind"],
             }
         )
-        if cl is not None:
-            d = _clearance(jt, cl)
+        if d is not None:
             d["outer_body"] = mech.markers[d["outer_marker"]].body
             d["inner_body"] = mech.markers[d["inner_marker"]].body
             clearances.append(d)

@@ -20,7 +20,8 @@ import numpy as np
 
 from clearance.io.frames import MAX_FRAMES, frame_samples
 from clearance.io.geometry import geometry_from_attrs, mechanism_geometry
-from clearance.view.shapes import _rot, body_shapes, joint_glyphs, mechanism_size
+from clearance.model.bodies import rotation_matrices
+from clearance.view.shapes import body_shapes, joint_glyphs, mechanism_size
 from clearance.view.shapes import nice_magnification as _nice
 
 __all__ = [
@@ -331,7 +332,7 @@ def _scene(path: Path, root: dict, loaded: list, magnification, view) -> Scene:
             mk = geo["markers"][info["outer_marker"]]
             if mk["body"] in bodies:
                 q = poses[:, bodies.index(mk["body"]), 3:]
-                R_outer = np.array([_rot(x) for x in q])
+                R_outer = rotation_matrices(q)
             else:  # on the ground
                 R_outer = np.repeat(np.eye(3)[None], t.size, axis=0)
             tracks.append(

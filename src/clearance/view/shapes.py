@@ -28,6 +28,8 @@ import math
 
 import numpy as np
 
+from clearance.model.bodies import rotation_matrices
+
 __all__ = ["PALETTE", "body_shapes", "joint_glyphs", "mechanism_size", "nice_magnification"]
 
 # matplotlib's tab10, for bodies in order; the ground is drawn grey
@@ -46,17 +48,6 @@ PALETTE = (
 PLATFORM_COLOUR = "#4a6fa5"
 
 
-def _rot(q) -> np.ndarray:
-    e0, e1, e2, e3 = (float(x) for x in q)
-    return np.array(
-        [
-            [1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
-            [2 * (e1 * e2 + e0 * e3), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e0 * e1)],
-            [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), 1 - 2 * (e1 * e1 + e2 * e2)],
-        ]
-    )
-
-
 def _points(geometry: dict) -> dict[str, list[np.ndarray]]:
     """Body name -> its joint points (body frame), markers of every joint."""
     pts: dict[str, list[np.ndarray]] = {}
@@ -72,7 +63,7 @@ def mechanism_size(geometry: dict, pose: dict[str, tuple]) -> float:
         p = np.array(mk["position"], dtype=float)
         if mk["body"] in pose:
             r, e = pose[mk["body"]]
-            p = np.asarray(r, dtype=float) + _rot(e) @ p
+            p = np.asarray(r, dtype=float) + rotation_matrices(np.asarray(e, dtype=float)) @ p
         world.append(p)
     if not world:
         return 1.0

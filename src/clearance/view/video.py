@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from clearance.io.files import atomic_path
+from clearance.model.bodies import rotation_matrices
 from clearance.view.scene import Scene, SceneError, load_scene
-from clearance.view.shapes import _rot
 
 __all__ = ["VideoInfo", "render_video", "video_times"]
 
@@ -46,16 +46,18 @@ class VideoInfo:
         return self.frames / self.fps
 
 
+def _frame_count(t0: float, t1: float, fps: float, speed: float) -> int:
+    return max(int(np.floor((t1 - t0) / (speed / fps) * (1 + 1e-12))) + 1, 1)
+
+
 def video_times(t0: float, t1: float, fps: float, speed: float) -> np.ndarray:
     """Simulated times of the video frames: t0 + k speed / fps up to t1 (inclusive)."""
-    step = speed / fps
-    n = int(np.floor((t1 - t0) / step * (1 + 1e-12))) + 1
-    return t0 + step * np.arange(max(n, 1))
+    return t0 + speed / fps * np.arange(_frame_count(t0, t1, fps, speed))
 
 
 def _world(poses: np.ndarray, k: int, b: int, pts: np.ndarray) -> np.ndarray:
     p = poses[k, b].astype(float)
-    return p[:3] + pts @ _rot(p[3:]).T
+    return p[:3] + pts @ rotation_matrices(p[3:]).T
 
 
 class _Drawing:
@@ -253,7 +255,7 @@ def render_video(
     w, h = (int(x) for x in size)
     if w < 64 or h < 64 or w % 2 or h % 2:
         raise SceneError(f"size = {w}x{h}: expected even numbers of pixels, at least 64")
-    nframes = int(np.floor((t1 - t0) / (speed / fps) * (1 + 1e-12))) + 1
+    nframes = _frame_count(t0, t1, fps, speed)
     if nframes > MAX_VIDEO_FRAMES:
         raise SceneError(
             f"speed = {speed:g} at {fps:g} fps makes {nframes} frames for {t1 - t0:g} s of "
