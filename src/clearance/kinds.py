@@ -172,7 +172,10 @@ class ContactKind(IntEnum):
 # non-inlined call, and 24 more small arrays cost 3 % of a right-hand side (measured).
 # Model.clr_ix (nclr, NCLRI) int columns:
 CI_KIND, CI_BS, CI_BB, CI_MVS, CI_MVB, CI_P0, CI_NP = range(7)  # ClearanceKind, outer body,
-NCLRI = 7  # inner body, slide functions of the outer / inner centre (-1: fixed), points
+# inner body, slide functions of the outer / inner centre (-1: fixed), points; then the
+# joint's rows of Model.clr_wear (a worn socket: first row, count; 0 rows: unworn)
+CI_W0, CI_NW = 7, 8
+NCLRI = 9
 # Model.clr_geo (nclr, NCLRG) float columns: common, then kind-specific from CG_K0
 CG_C, CG_VFLOOR, CG_OTOL, CG_K0 = 0, 1, 2, 3  # clearance [m], impact-velocity floor [m/s],
 NCLRG = 8  # onset tolerance (fraction of the clearance); kind columns: contact kernels

@@ -29,7 +29,9 @@ from clearance.kinds import (
     CI_MVB,
     CI_MVS,
     CI_NP,
+    CI_NW,
     CI_P0,
+    CI_W0,
     CV_AXB,
     CV_AXS,
     CV_PB,
@@ -245,6 +247,8 @@ def clearance_arrays(b, mech: Mechanism) -> tuple[dict, tuple, tuple]:
     """Model arrays (clr_*, cp_*, nclr, ncp) of the joints of `mech` that have a clearance,
     and their ClearanceInfo / ContactPointInfo. `b`: the compile builder (markers, slides)."""
     jrows, prows, infos, pinfos = [], [], [], []
+    wear_rows: list[np.ndarray] = []  # Model.clr_wear rows of worn sockets
+    nw = 0
     for jt in mech.joints.values():
         cl = getattr(jt, "clearance", None)
         if cl is None:
@@ -279,6 +283,12 @@ def clearance_arrays(b, mech: Mechanism) -> tuple[dict, tuple, tuple]:
         ix = np.zeros(NCLRI, dtype=np.int64)
         ix[[CI_KIND, CI_BS, CI_BB, CI_MVS, CI_MVB]] = (int(cl.kind), bs, bb, fs, fb)
         ix[[CI_P0, CI_NP]] = (len(prows), len(pts))
+        worn = mech.wear.get(jt.name)
+        if worn is not None and worn.max_depth() > 0.0:  # (contact/spherical.py)
+            geo_row[CG_K0 + 2] = worn.smoothing
+            ix[[CI_W0, CI_NW]] = (nw, worn.weights.size)
+            wear_rows.append(worn.rows())
+            nw += worn.weights.size
         vec = np.zeros((4, 3))
         vec[[CV_PS, CV_PB, CV_AXS, CV_AXB]] = (ps, pb, axs, axb)
         jrows.append((ix, geo_row, vec, np.array([Ts, Tb])))
@@ -322,6 +332,7 @@ def clearance_arrays(b, mech: Mechanism) -> tuple[dict, tuple, tuple]:
         cp_ix=stack(prows, 0, (NCPI,), np.int64),
         cp_geo=stack(prows, 1, (NCPG,)),
         cp_par=stack(prows, 2, (2, NPAR)),
+        clr_wear=np.concatenate(wear_rows) if wear_rows else np.zeros((0, 5)),
     )
     # the index sets per contact kind: points in kind order and the range of each kind
     kinds = arrays["cp_ix"][:, PI_KIND]

@@ -120,6 +120,7 @@ class Model(NamedTuple):
     clr_geo: np.ndarray  # (nclr, NCLRG): clearance, velocity floor, onset tolerance, geometry
     clr_vec: np.ndarray  # (nclr, 4, 3): outer / inner centre, their slide axes (body frames)
     clr_T: np.ndarray  # (nclr, 2, 3, 3): outer / inner marker triads (body frames)
+    clr_wear: np.ndarray  # (nw, 5): worn sockets' depth fields (contact/spherical.py)
     ncp: int
     cp_ix: np.ndarray  # (ncp, NCPI) int: contact kind, clearance joint, normal, friction law
     cp_geo: np.ndarray  # (ncp, NCPG): share of the law, event tolerance [m], geometry

@@ -7,15 +7,17 @@ has a contact kind (kinds.ContactKind) whose kernel module gives its geometry wi
 signature:
 
     contact(model, p, k, bA, br, brd, bw, fval)
-        -> (delta, delta_dot, n, arm_s, arm_b, u_s, u_b, n_dot)
+        -> (delta, delta_dot, n, arm_s, arm_b, u_s, u_b, n_dot, m)
     gap(model, p, k, bA, br, fval) -> delta
 
 (delta > 0 in contact; n the contact normal, pointing outwards from the joint's centre;
 arm_s / arm_b the world arms from the mass centres to the contact points Q_s, Q_b with
 delta = n . (Q_b - Q_s); u_s / u_b the velocities of moving attachment points; n_dot the
-rate of n). Everything else is common and lives here: the normal law (weighted by the
-point's share, cp_geo[p, PG_W]), friction with its bristle state, the forces -F_N n - F_T on
-b at Q_b and
+rate of n; m the normal force per unit of the law's force: 1, but |d delta / d e| for a
+worn socket, whose gap is not a distance along n (contact/spherical.py)).
+With m != 1 the law's F_N works on delta_dot (D_n) and the force m F_N acts along n.
+Everything else is common and lives here: the normal law (weighted by the point's share,
+cp_geo[p, PG_W]), friction with its bristle state, the forces -F_N n - F_T on b at Q_b and
 the opposite on s at Q_s (Flores convention, f.3-f.4), the energy audit rates (D_n, D_t,
 W_m; physics.md j) and the diagnostics (layout.JOINT_COLUMNS per joint, POINT_COLUMNS per
 point).
@@ -140,7 +142,7 @@ def gap_of(model, p, bA, br, fval):
 
 @njit(cache=True, error_model="numpy", _nrt=False)
 def point_contact(model, p, bA, br, brd, bw, fval):
-    """(delta, delta_dot, n, arm_s, arm_b, u_s, u_b, n_dot) of contact point p."""
+    """(delta, delta_dot, n, arm_s, arm_b, u_s, u_b, n_dot, m) of contact point p."""
     k = model.cp_ix[p, PI_CLR]
     kind = model.cp_ix[p, PI_KIND]
     if kind == _SPHERE:
@@ -175,10 +177,10 @@ def eccentricity(model, k, bA, br, fval):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _apply(model, y, wk, cs, ydot, p, geometry):
     """The common part of contact point p, given its geometry (delta, delta_dot, n, arm_s,
-    arm_b, u_s, u_b, n_dot; see the module docstring): diagnostics, normal law, friction,
+    arm_b, u_s, u_b, n_dot, m; see the module docstring): diagnostics, normal law, friction,
     forces on both bodies, bristle and dissipation rates. Returns the point's power through
     moving attachments (the W_m rate, physics.md j)."""
-    delta, ddot, n, arm_s, arm_b, us, ub, nd = geometry
+    delta, ddot, n, arm_s, arm_b, us, ub, nd, m = geometry
     k = model.cp_ix[p, PI_CLR]
     s = model.clr_ix[k, CI_BS]
     b = model.clr_ix[k, CI_BB]
@@ -227,6 +229,9 @@ def _apply(model, y, wk, cs, ydot, p, geometry):
     wgt = model.cp_geo[p, PG_W]
     fn = wgt * fn
     fel = wgt * fel
+    dn_rate = (fn - fel) * ddot  # D_n rate: normal damping dissipation (j)
+    fn = m * fn  # the normal force (m = 1 but for a worn socket; module docstring)
+    fel = m * fel
     zw = (y[zi], y[zi + 1], y[zi + 2])
     zn = dot(zw, n)
     z = sub(zw, scale(zn, n))  # the bristles' tangent part (module docstring)
@@ -241,7 +246,7 @@ def _apply(model, y, wk, cs, ydot, p, geometry):
     fb = sub(scale(-fn, n), ft)  # on the inner body, at Q_b
     add_force(wk.Q, b, bA, fb, arm_b)
     add_force(wk.Q, s, bA, scale(-1.0, fb), arm_s)
-    ydot[model.y_idn + k] += (fn - fel) * ddot  # D_n rate: normal damping dissipation (j)
+    ydot[model.y_idn + k] += dn_rate
     ydot[model.y_idt + k] += dot(ft, vt)  # D_t rate: friction work (j)
     pout[p, PO_FN] = fn
     pout[p, PO_FEL] = fel

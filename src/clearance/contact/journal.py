@@ -162,7 +162,7 @@ def station_contact(model, p, k, bA, br, brd, bw, fval):
     delta, n, arm_s, arm_b = _station(model, p, k, bA, br, arm_s0, arm_b0)
     ddot = gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub)
     nd = _station_normal_rate(model, p, k, bA, br, brd, bw, arm_s0, arm_b0, us, ub, n, arm_s)
-    return delta, ddot, n, arm_s, arm_b, us, ub, nd
+    return delta, ddot, n, arm_s, arm_b, us, ub, nd, 1.0
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -176,4 +176,4 @@ def thrust_contact(model, p, k, bA, br, brd, bw, fval):
     arm_s0, arm_b0, us, ub = centres(model, k, bA, fval)
     delta, n, arm_s, arm_b = _thrust(model, p, k, bA, br, arm_s0, arm_b0)
     ddot = gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub)
-    return delta, ddot, n, arm_s, arm_b, us, ub, outer_rate(model, k, bw, n)  # n: -side h_s
+    return delta, ddot, n, arm_s, arm_b, us, ub, outer_rate(model, k, bw, n), 1.0  # n: -side h_s

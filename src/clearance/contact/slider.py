@@ -61,4 +61,4 @@ def corner_contact(model, p, k, bA, br, brd, bw, fval):
     arm_s0, arm_b0, us, ub = centres(model, k, bA, fval)
     delta, n, arm_s, arm_b = _corner(model, p, k, bA, br, arm_s0, arm_b0)
     ddot = gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub)
-    return delta, ddot, n, arm_s, arm_b, us, ub, outer_rate(model, k, bw, n)  # n: a wall of s
+    return delta, ddot, n, arm_s, arm_b, us, ub, outer_rate(model, k, bw, n), 1.0  # n: a wall

@@ -18,6 +18,31 @@ with arm_s / arm_b the world arms from the mass centres of s and b to the contac
 u_s / u_b the velocities of moving attachment points (A sb_dot, physics.md i) and n_dot
 the rate of the unit normal (the LuGre bristles are carried with it, element.py). Here
 n_dot = (e_dot - n (n . e_dot)) / |e|.
+
+Worn socket (issue 16; `clearance.model.wear.SocketWear`, rows clr_ix[k, CI_W0] ..
++ CI_NW of Model.clr_wear, each [c_x, c_y, c_z, h Omega, Omega] in the outer marker frame,
+and the smoothing radius rho = clr_geo[k, CG_K0 + 2]). The socket's radius in the direction
+u (unit, outer marker frame) is R_s + h(u), with the worn depth the smooth field
+
+    h(u) = sum_i h_i Omega_i phi_i(u) / sum_i Omega_i phi_i(u),  phi_i = phi(|u - c_i| / rho)
+
+(Shepard's partition of unity with Wendland's C2 function phi(r) = (1 - r)^4 (4 r + 1),
+r < 1: the cells' depths h_i, solid angles Omega_i; h is C2 and reproduces a uniform depth
+exactly). The gap is measured along the line of centres, as in the wear literature
+(docs/notes/wear-literature.md section 4):
+
+    delta = |e| - c - h(u),  u = T^T A_s^T n.
+
+The force is its exact gradient (virtual work, f.4): with g_t the world gradient of h
+w.r.t. the direction, tangent to n, d delta = (n - g_t / |e|) . de + dphi_s . (n x g_t)
+(dphi_s: a rotation of the socket, which turns its worn surface). Its direction is the
+worn surface's normal n' = nu / m, nu = n - g_t / |e|, m = |nu|, and it acts at one line
+through P_b along n': Q_b = P_b + R_b n', Q_s = Q_b - delta n' (so delta = n' . (Q_b -
+Q_s), and Q_s is the socket's surface point R_s n of the unworn joint). The normal law is
+evaluated at (delta, delta_dot) and the force on b is -m F_N n' (element.py: the ninth
+entry m of the geometry; 1 for every unworn contact). delta_dot is the exact rate,
+n . e_dot - g . (n_dot - omega_s x n), and n_dot the exact rate of n' (the field's Hessian
+along u_dot).
 """
 
 from __future__ import annotations
@@ -27,10 +52,10 @@ import math
 from numba import njit
 
 from clearance.contact.frames import centres
-from clearance.kinds import CG_C, CG_K0, CI_BB, CI_BS
-from clearance.kinematics.rotations import add, cross, dot, scale, sub
+from clearance.kinds import CG_C, CG_K0, CI_BB, CI_BS, CI_NW, CI_W0
+from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
 
-_RS, _RB = CG_K0, CG_K0 + 1  # socket and ball radii in clr_geo
+_RS, _RB, _RHO = CG_K0, CG_K0 + 1, CG_K0 + 2  # socket, ball radii; wear smoothing radius
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -42,7 +67,12 @@ def gap(model, p, k, bA, br, fval):
     Ps = add((br[s, 0], br[s, 1], br[s, 2]), arm_s)
     Pb = add((br[b, 0], br[b, 1], br[b, 2]), arm_b)
     e = sub(Pb, Ps)
-    return math.sqrt(dot(e, e)) - model.clr_geo[k, CG_C]
+    el = math.sqrt(dot(e, e))
+    if model.clr_ix[k, CI_NW] == 0:
+        return el - model.clr_geo[k, CG_C]
+    u = _to_marker(bA[s], model.clr_T[k, 0], scale(1.0 / el, e))
+    h, _, _ = worn_depth(model, k, u, (0.0, 0.0, 0.0))
+    return el - model.clr_geo[k, CG_C] - h
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -56,6 +86,8 @@ def contact(model, p, k, bA, br, brd, bw, fval):
     Pb = add((br[b, 0], br[b, 1], br[b, 2]), arm_b0)
     e = sub(Pb, Ps)
     el = math.sqrt(dot(e, e))
+    if model.clr_ix[k, CI_NW] > 0 and el > 0.0:
+        return _worn_contact(model, k, bA, brd, bw, arm_s0, arm_b0, us, ub, e, el)
     delta = el - model.clr_geo[k, CG_C]
     # centre velocities, including the moving-attachment terms A sb_dot (f.2)
     ws = (bw[s, 0], bw[s, 1], bw[s, 2])
@@ -68,4 +100,118 @@ def contact(model, p, k, bA, br, brd, bw, fval):
     nd = scale(1.0 / el, sub(ed, scale(ddot, n))) if el > 0.0 else (0.0, 0.0, 0.0)
     arm_s = add(arm_s0, scale(model.clr_geo[k, _RS], n))  # socket surface point (f.1)
     arm_b = add(arm_b0, scale(model.clr_geo[k, _RB], n))  # ball surface point
-    return delta, ddot, n, arm_s, arm_b, us, ub, nd
+    return delta, ddot, n, arm_s, arm_b, us, ub, nd, 1.0
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _to_marker(A, T, x):
+    """Outer-marker components T^T A^T x of the world vector x."""
+    es = mattvec(A, x)
+    return (
+        T[0, 0] * es[0] + T[1, 0] * es[1] + T[2, 0] * es[2],
+        T[0, 1] * es[0] + T[1, 1] * es[1] + T[2, 1] * es[2],
+        T[0, 2] * es[0] + T[1, 2] * es[1] + T[2, 2] * es[2],
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _to_world(A, T, x):
+    """World components A T x of the outer-marker vector x."""
+    return matvec(
+        A,
+        (
+            T[0, 0] * x[0] + T[0, 1] * x[1] + T[0, 2] * x[2],
+            T[1, 0] * x[0] + T[1, 1] * x[1] + T[1, 2] * x[2],
+            T[2, 0] * x[0] + T[2, 1] * x[1] + T[2, 2] * x[2],
+        ),
+    )
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def worn_depth(model, k, u, du):
+    """(h, g, H du) of joint k's worn socket at the direction u (outer marker frame, unit):
+    the depth h(u) [m] (module docstring), its gradient g = dh/du and the derivative of g
+    along du (the Hessian times du), all in the outer marker frame."""
+    rho = model.clr_geo[k, _RHO]
+    r2 = rho * rho
+    W = model.clr_wear
+    num = den = 0.0
+    n0 = n1 = n2 = d0 = d1 = d2 = 0.0  # gradients of the numerator and denominator
+    p0 = p1 = p2 = q0 = q1 = q2 = 0.0  # their Hessians times du
+    for i in range(model.clr_ix[k, CI_W0], model.clr_ix[k, CI_W0] + model.clr_ix[k, CI_NW]):
+        x0, x1, x2 = u[0] - W[i, 0], u[1] - W[i, 1], u[2] - W[i, 2]
+        s2 = x0 * x0 + x1 * x1 + x2 * x2
+        if s2 >= r2:
+            continue
+        sd = math.sqrt(s2)
+        om = 1.0 - sd / rho
+        phi = om * om * om * om * (4.0 * sd / rho + 1.0)
+        a = -20.0 * om * om * om / r2  # grad phi = a x
+        # Hessian of phi times du: a du + x (da/ds) (x . du) / s
+        c = (
+            60.0 * om * om / (r2 * rho * sd) * (x0 * du[0] + x1 * du[1] + x2 * du[2])
+            if sd > 0.0
+            else 0.0
+        )
+        hv0, hv1, hv2 = a * du[0] + c * x0, a * du[1] + c * x1, a * du[2] + c * x2
+        wn, wd = W[i, 3], W[i, 4]
+        num += wn * phi
+        den += wd * phi
+        n0 += wn * a * x0
+        n1 += wn * a * x1
+        n2 += wn * a * x2
+        d0 += wd * a * x0
+        d1 += wd * a * x1
+        d2 += wd * a * x2
+        p0 += wn * hv0
+        p1 += wn * hv1
+        p2 += wn * hv2
+        q0 += wd * hv0
+        q1 += wd * hv1
+        q2 += wd * hv2
+    if num <= 0.0 or den <= 0.0:
+        return 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+    h = num / den
+    g = ((n0 - h * d0) / den, (n1 - h * d1) / den, (n2 - h * d2) / den)
+    gdu = g[0] * du[0] + g[1] * du[1] + g[2] * du[2]
+    ddu = d0 * du[0] + d1 * du[1] + d2 * du[2]
+    H = (
+        (p0 - gdu * d0 - h * q0 - g[0] * ddu) / den,
+        (p1 - gdu * d1 - h * q1 - g[1] * ddu) / den,
+        (p2 - gdu * d2 - h * q2 - g[2] * ddu) / den,
+    )
+    return h, g, H
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def _worn_contact(model, k, bA, brd, bw, arm_s0, arm_b0, us, ub, e, el):
+    """`contact` of a worn socket (module docstring), e = P_b - P_s (el = |e| > 0)."""
+    s = model.clr_ix[k, CI_BS]
+    b = model.clr_ix[k, CI_BB]
+    A = bA[s]
+    T = model.clr_T[k, 0]
+    ws = (bw[s, 0], bw[s, 1], bw[s, 2])
+    wb = (bw[b, 0], bw[b, 1], bw[b, 2])
+    vPs = add(add((brd[s, 0], brd[s, 1], brd[s, 2]), cross(ws, arm_s0)), us)
+    vPb = add(add((brd[b, 0], brd[b, 1], brd[b, 2]), cross(wb, arm_b0)), ub)
+    ed = sub(vPb, vPs)
+    n = scale(1.0 / el, e)
+    eld = dot(n, ed)
+    nd = scale(1.0 / el, sub(ed, scale(eld, n)))  # rate of n = e / |e|
+    rel = sub(nd, cross(ws, n))  # rate of n seen from the socket
+    h, gm, qm = worn_depth(model, k, _to_marker(A, T, n), _to_marker(A, T, rel))
+    g = _to_world(A, T, gm)
+    gd = add(_to_world(A, T, qm), cross(ws, g))  # rate of g (world)
+    delta = el - model.clr_geo[k, CG_C] - h
+    ddot = eld - dot(g, rel)
+    gn = dot(g, n)
+    gt = sub(g, scale(gn, n))
+    gtd = sub(sub(gd, scale(dot(gd, n) + dot(g, nd), n)), scale(gn, nd))  # rate of gt
+    nu = sub(n, scale(1.0 / el, gt))
+    m = math.sqrt(dot(nu, nu))
+    nn = scale(1.0 / m, nu)
+    nud = add(sub(nd, scale(1.0 / el, gtd)), scale(eld / (el * el), gt))
+    nnd = scale(1.0 / m, sub(nud, scale(dot(nn, nud), nn)))
+    arm_b = add(arm_b0, scale(model.clr_geo[k, _RB], nn))
+    arm_s = add(add(arm_s0, e), scale(model.clr_geo[k, _RB] - delta, nn))
+    return delta, ddot, nn, arm_s, arm_b, us, ub, nnd, m

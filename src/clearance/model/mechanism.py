@@ -42,6 +42,8 @@ class Mechanism:
     """A multibody system under construction.
 
     name: label used in results.  gravity: (3,) world gravity vector [m/s^2].
+    wear: joint name -> `clearance.model.wear.SocketWear`, the worn sockets of spherical
+    clearance joints (`with_wear`; empty: unworn).
     """
 
     name: str = "mechanism"
@@ -51,6 +53,7 @@ class Mechanism:
     joints: dict = field(default_factory=dict)
     drivers: dict = field(default_factory=dict)
     forces: dict = field(default_factory=dict)
+    wear: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         g = np.asarray(self.gravity, dtype=float)
@@ -237,6 +240,7 @@ class Mechanism:
             dict(self.joints),
             dict(self.drivers),
             dict(self.forces),
+            dict(self.wear),
         )
 
     def replace(self, **changes: object) -> Mechanism:
@@ -282,6 +286,36 @@ class Mechanism:
                 f"prismatic joint; joints that can have clearance: {able}",
             )
         return self.replace(**{joint: replace(jt, clearance=clearance)})
+
+    def with_wear(self, joint: str, wear: object) -> Mechanism:
+        """A copy in which the socket of spherical clearance joint `joint` is worn as `wear`
+        (a `clearance.model.wear.SocketWear`; None: unworn again)."""
+        from clearance.model.clearance import Clearance
+        from clearance.model.wear import SocketWear
+
+        jt = self.joints.get(joint)
+        if not isinstance(getattr(jt, "clearance", None), Clearance):
+            able = [
+                n
+                for n, j in self.joints.items()
+                if isinstance(getattr(j, "clearance", None), Clearance)
+            ]
+            raise ModelError(
+                f"Mechanism '{self.name}'",
+                "with_wear",
+                joint,
+                f"expected a spherical clearance joint; these have one: {able}",
+            )
+        if wear is not None and not isinstance(wear, SocketWear):
+            raise ModelError(
+                f"Mechanism '{self.name}'", f"wear.{joint}", wear, "expected a SocketWear or None"
+            )
+        m = self.copy()
+        if wear is None:
+            m.wear.pop(joint, None)
+        else:
+            m.wear[joint] = wear
+        return m
 
     def _marker_world(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         """(point, triad) of marker `name` in the world at the description's pose (t = 0)."""

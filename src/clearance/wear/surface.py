@@ -25,6 +25,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from clearance.model.wear import SocketWear
+
 __all__ = ["SphereWearMap", "archard_hertz", "hertz_conformal", "hertz_patch"]
 
 # face k: (N, U, V) with U x V = N
@@ -110,6 +112,27 @@ class SphereWearMap:
         i = np.clip(((xi + _Q) / (2 * _Q) * self.n).astype(np.int64), 0, self.n - 1)
         j = np.clip(((eta + _Q) / (2 * _Q) * self.n).astype(np.int64), 0, self.n - 1)
         return f, i, j
+
+    def socket_wear(self, smoothing: float = 2.0) -> SocketWear:
+        """The worn socket as the dynamics sees it (`clearance.model.wear.SocketWear`):
+        Shepard's interpolation of the cells' depths with a Wendland weight of radius
+        rho = smoothing x the cells' mean width (pi / 2 / n on the unit sphere), over the
+        worn cells and the unworn ones within 2 rho of them."""
+        from scipy.spatial import cKDTree
+
+        if not self.outer:
+            raise ValueError("socket_wear: this map is a ball's (outer=False)")
+        if not smoothing > 0:
+            raise ValueError(f"smoothing = {smoothing}: expected a number > 0 (cell widths)")
+        rho = min(2.0, smoothing * 0.5 * math.pi / self.n)
+        c = self.centres.reshape(-1, 3)
+        h = self.depth.reshape(-1)
+        worn = h > 0.0
+        if not worn.any():
+            return SocketWear(np.zeros((0, 3)), np.zeros(0), np.zeros(0), rho)
+        dist, _ = cKDTree(c[worn]).query(c, distance_upper_bound=2.0 * rho)
+        keep = np.isfinite(dist)
+        return SocketWear(c[keep], h[keep], self.solid_angle.reshape(-1)[keep], rho)
 
     def depth_at(self, u: np.ndarray) -> np.ndarray:
         """The depth of the cells holding directions u (piecewise constant; the smooth
