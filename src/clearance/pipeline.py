@@ -15,7 +15,7 @@ import functools
 import json
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -881,6 +881,13 @@ def run_outputs(s: Scenario, extra: tuple[str, ...] | None, comp: Compiled) -> f
     return resolve_outputs(s.output.outputs if extra is None else extra, several_points=several)
 
 
+def _worn(clr: Mechanism, wear: Mapping[str, object] | None) -> Mechanism:
+    """The clearance mechanism with the worn sockets `wear` ({joint: SocketWear})."""
+    for joint, w in (wear or {}).items():
+        clr = clr.with_wear(joint, w)
+    return clr
+
+
 def run_scenario(
     scenario: Scenario | str | Path | None = None,
     *,
@@ -892,6 +899,7 @@ def run_scenario(
     log: Callable[[str], None] | None = print,
     progress: Callable[[str, float, float], object] | None = None,
     y0: np.ndarray | None = None,
+    wear: Mapping[str, object] | None = None,
 ) -> RunOutput:
     """Run a scenario (default: the shipped 4UPS-UPU one) and write its outputs.
 
@@ -910,6 +918,8 @@ def run_scenario(
     assembled at t = 0), e.g. the `final_state` of an earlier run of a periodic drive, to
     continue a branch (`clearance bifurcation --continuation`); default: the initial
     placement of [clearance].
+    wear: worn sockets of the clearance run, {joint: `clearance.model.wear.SocketWear`}
+    (`Mechanism.with_wear`; `clearance.wear.predict` runs the wear loop with it).
     A run that fails part-way keeps and writes what it computed; its status says why.
     Ctrl-C during the integration stops both runs within ~0.1 s, writes what they computed
     (without figures) and raises `RunInterrupted` (a KeyboardInterrupt) carrying it;
@@ -935,6 +945,7 @@ def run_scenario(
         else:
             ik = r_ideal = None
             ideal, clr, info = build_mechanisms(s)
+        clr = _worn(clr, wear)
     # the clearance model's layout, compiled once: the memory estimate and the cold
     # compile need it before the IK; with reused drives it is also the model that runs
     c_clr = compile_mechanism(clr)
@@ -985,6 +996,7 @@ def run_scenario(
             )
             drives = drives_from_ik(ik)
             ideal, clr, info = build_mechanisms(s, drives=drives)
+            clr = _worn(clr, wear)
     if ik is not None:
         _say(
             log,

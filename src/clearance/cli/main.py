@@ -538,6 +538,62 @@ def animate(
 
 
 @app.command()
+def wear(
+    file: Path = typer.Argument(..., help="scenario file (TOML) with a \\[wear] table"),
+    out: Path = typer.Option(
+        None, "-o", "--out", help="output folder (default: the scenario's \\[output] folder)"
+    ),
+    restart: bool = typer.Option(
+        False, "--restart", help="start again instead of resuming from OUT/wear.nc"
+    ),
+    figures: bool = typer.Option(True, "--figures/--no-figures", help="draw the figures"),
+    iterations: int = typer.Option(
+        None, "--iterations", min=1, help="stop after this many runs (resume later)"
+    ),
+) -> None:
+    """Predict the wear of the scenario's spherical clearance joints over many cycles
+    (Archard's law, the worn sockets fed back into the dynamics, the update-factor loop;
+    docs/wear.md). Resumes from OUT/wear.nc when it holds the same scenario. Exit 0: done
+    (or --iterations reached); 1: a run failed (the iterations before it are kept);
+    2: invalid input; 130: Ctrl-C (the iterations done are kept)."""
+    from clearance.model.errors import KinematicsError, ModelError
+    from clearance.scenario import ScenarioError
+    from clearance.wear.predict import WearRunError, predict_wear
+
+    try:
+        w = predict_wear(
+            file, out_dir=out, restart=restart, figures=figures, max_iterations=iterations
+        )
+    except ScenarioError as e:
+        for line in e.lines():
+            typer.echo(line, err=True)
+        raise typer.Exit(2) from None
+    except (KinematicsError, ModelError) as e:
+        typer.echo(f"error: {e}", err=True)
+        raise typer.Exit(2) from None
+    except WearRunError as e:
+        typer.echo(f"error: {e}; the iterations before it are kept (run again to resume)", err=True)
+        raise typer.Exit(1) from None
+    except KeyboardInterrupt:
+        typer.echo("interrupted: the iterations done are kept (run again to resume)", err=True)
+        raise typer.Exit(130) from None
+    st = w.state
+    typer.echo(
+        f"wear: {st.cycles:.6g} cycles in {len(st.rows)} runs"
+        + ("" if st.done else " (not finished: run again to resume)")
+    )
+    for j, m in st.maps.items():
+        typer.echo(
+            f"  {j}: worn volume {m.volume() * 1e9:.4g} mm^3, max depth "
+            f"{m.max_depth() * 1e6:.4g} um, effective clearance "
+            f"{(st.clearances[j] + m.max_depth()) * 1e3:.4g} mm"
+        )
+    typer.echo("files:")
+    for f in w.files:
+        typer.echo(f"  {f}")
+
+
+@app.command()
 def report(
     path: Path = typer.Argument(
         ..., help="result file (.nc) of `clearance run`, or a study folder of `clearance sweep`"

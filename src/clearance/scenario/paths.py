@@ -62,6 +62,7 @@ from clearance.scenario.serialize import scenario_to_dict
 from clearance.scenario.steady import STEADY_FIELDS
 from clearance.scenario.trajectories import HARMONIC_KEYS
 from clearance.scenario.view import VIEW_FIELDS
+from clearance.scenario.wear import WEAR_FIELDS
 
 __all__ = [
     "allowed_keys",
@@ -197,6 +198,7 @@ def allowed_keys(d: Mapping, keys: list[str], *, kind: object = MISSING) -> tupl
             "checks": tuple(CHECKS_FIELDS),
             "steady_state": tuple(STEADY_FIELDS),
             "view": tuple(VIEW_FIELDS),
+            "wear": (*WEAR_FIELDS, "update_factor"),
             "mechanism": mech_keys,
         }
         return sections.get(head)

@@ -68,6 +68,7 @@ from clearance.scenario.trajectories import (  # (IK_SPACING: re-exported)
     time_scale,
 )
 from clearance.scenario.view import ViewSpec, parse_view
+from clearance.scenario.wear import WearSettings, parse_wear
 
 __all__ = [
     "FORMAT_VERSION",
@@ -103,6 +104,7 @@ SECTIONS = (
     "checks",
     "steady_state",
     "view",
+    "wear",
 )
 TOP_KEYS = ("format_version", *SECTIONS)
 AUTO = "auto"  # in a law table: the field's computed value (None in Python)
@@ -626,6 +628,7 @@ class Scenario:
     checks: ChecksSpec = field(default_factory=ChecksSpec)
     steady_state: SteadyStateSpec | None = None  # [steady_state] (clearance.scenario.steady)
     view: ViewSpec = field(default_factory=ViewSpec)  # [view] (clearance.scenario.view)
+    wear: WearSettings | None = None  # [wear] (clearance.scenario.wear)
 
     @property
     def name(self) -> str:
@@ -1172,6 +1175,14 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
     view = ViewSpec()
     if "view" in d and (t := _section(d, "view", problems)) is not None:
         view = parse_view(t, problems)
+    wear = None
+    if "wear" in d and (t := _section(d, "wear", problems)) is not None:
+        sph = tuple(
+            n
+            for n, j in (clr.joints.items() if clr is not None else ())
+            if isinstance(j, Clearance)
+        )
+        wear = parse_wear(t, sph, problems)
     problems.raise_if_any()
     return Scenario(
         meta,  # type: ignore[arg-type]
@@ -1185,4 +1196,5 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
         checks,  # type: ignore[arg-type]
         steady,
         view,  # type: ignore[arg-type]
+        wear,
     )

@@ -125,4 +125,6 @@ def scenario_to_dict(s: Scenario) -> dict[str, object]:
         doc["steady_state"] = st
     if s.view != ViewSpec():
         doc["view"] = s.view.to_dict()
+    if s.wear is not None:
+        doc["wear"] = s.wear.to_dict()
     return doc

@@ -1,0 +1,149 @@
+"""[wear]: the wear prediction of `clearance wear SCENARIO` (`clearance.wear.predict`).
+
+    [wear]
+    cycles = 1e6              # cycles to predict (one cycle: the run after warmup)
+    update_factor = "auto"    # cycles per iteration, or "auto": each iteration deepens a
+    max_step = 0.1            # socket by at most max_step x its clearance
+    warmup = 0.05             # [s] the start of each run not counted (default 0)
+    cycle_time = 0.4          # [s] length of one cycle (default: the counted run)
+
+    [wear.joints.S_1]         # a spherical clearance joint of [clearance.joints]
+    coefficient = 1e-15       # Archard's k / H [m^2/N]; or k = ..., hardness = ... [Pa]
+    grid = 32                 # cells per cube face of the socket's depth map
+    smoothing = 2.0           # the worn gap's smoothing radius [cells]
+
+The wear coefficient has no default: it depends on the materials, the lubrication and the
+regime, and published values span orders of magnitude (docs/notes/wear-literature.md).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from clearance.scenario.errors import Problems
+from clearance.scenario.fields import Field, parse_table, table_at
+
+__all__ = ["JOINT_WEAR_FIELDS", "WEAR_FIELDS", "JointWear", "WearSettings", "parse_wear"]
+
+WEAR_FIELDS = {
+    "cycles": Field("positive", doc="cycles to predict"),
+    "max_step": Field("positive", 0.1, doc="auto: largest depth per iteration / clearance"),
+    "max_factor": Field("positive", None, doc="auto: most cycles per iteration"),
+    "warmup": Field("nonneg", 0.0, "s", "start of each run not counted"),
+    "cycle_time": Field("positive", None, "s", "length of one cycle; default: the counted run"),
+    "joints": Field(
+        "table", doc="per spherical clearance joint: { coefficient | k, hardness, grid, smoothing }"
+    ),
+}
+JOINT_WEAR_FIELDS = {
+    "coefficient": Field("positive", None, "m2 N-1", "Archard's k / H"),
+    "k": Field("positive", None, "", "Archard's dimensionless wear coefficient"),
+    "hardness": Field("positive", None, "Pa", "hardness H of the softer surface"),
+    "grid": Field("count", 32, doc="cells per cube face of the depth map"),
+    "smoothing": Field("positive", 2.0, doc="smoothing radius of the worn gap [cells]"),
+}
+
+
+@dataclass(frozen=True)
+class JointWear:
+    """Wear settings of one spherical clearance joint's socket.
+
+    coefficient: k_w = k / H [m^2/N] (Archard's dimensionless k over the softer surface's
+    hardness H); grid: cells per cube face of the depth map (6 grid^2 cells); smoothing:
+    the worn gap's smoothing radius in cells (`SphereWearMap.socket_wear`)."""
+
+    coefficient: float
+    grid: int = 32
+    smoothing: float = 2.0
+
+
+@dataclass(frozen=True)
+class WearSettings:
+    """The loop: total `cycles`; update_factor: cycles per iteration (None: adaptive, each
+    iteration at most `max_step` x c deeper, and at most `max_factor` cycles); warmup [s]:
+    the start of each run not counted (the ball settling from its initial placement);
+    cycle_time [s]: the length of one cycle (None: the counted part of the run is one)."""
+
+    joints: Mapping[str, JointWear]
+    cycles: float
+    update_factor: float | None = None
+    max_step: float = 0.1
+    max_factor: float = math.inf
+    warmup: float = 0.0
+    cycle_time: float | None = None
+
+    def to_dict(self) -> dict:
+        """The plain [wear] table."""
+        d: dict = {
+            "cycles": self.cycles,
+            "update_factor": "auto" if self.update_factor is None else self.update_factor,
+            "max_step": self.max_step,
+            "warmup": self.warmup,
+            "joints": {k: vars(v).copy() for k, v in self.joints.items()},
+        }
+        if math.isfinite(self.max_factor):
+            d["max_factor"] = self.max_factor
+        if self.cycle_time is not None:
+            d["cycle_time"] = self.cycle_time
+        return d
+
+
+def parse_wear(t: dict, spherical: tuple[str, ...], problems: Problems) -> WearSettings | None:
+    """The WearSettings of a [wear] table (spherical: the scenario's spherical clearance
+    joints), or None with the problems reported."""
+    n0 = len(problems)
+    kw = parse_table(t, WEAR_FIELDS, "wear", problems, extra=("update_factor",))
+    uf = t.get("update_factor", "auto")
+    if uf != "auto" and not (
+        isinstance(uf, (int, float)) and not isinstance(uf, bool) and math.isfinite(uf) and uf > 0
+    ):
+        problems.add("wear.update_factor", uf, "expected 'auto' or a finite number of cycles > 0")
+    joints: dict = {}
+    raw = t.get("joints")
+    if raw is not None and (tb := table_at(raw, "wear.joints", problems)) is not None:
+        if not tb:
+            problems.add("wear.joints", tb, "expected at least one joint")
+        for name, body in tb.items():
+            path = f"wear.joints.{name}"
+            if name not in spherical:
+                problems.add(
+                    path,
+                    name,
+                    "expected a spherical clearance joint of [clearance.joints]: "
+                    + (", ".join(spherical) or "(none)"),
+                )
+                continue
+            if (b := table_at(body, path, problems)) is None:
+                continue
+            v = parse_table(b, JOINT_WEAR_FIELDS, path, problems)
+            coef = v.get("coefficient")
+            if coef is None and v.get("k") is not None and v.get("hardness") is not None:
+                coef = v["k"] / v["hardness"]
+            elif coef is not None and ("k" in b or "hardness" in b):
+                problems.add(
+                    f"{path}.coefficient", coef, "give coefficient or k and hardness, not both"
+                )
+            if coef is None:
+                problems.add(
+                    f"{path}.coefficient",
+                    "(missing)",
+                    "expected coefficient = k / H [m^2/N], or k and hardness [Pa]",
+                )
+                continue
+            if v["grid"] > 512:
+                problems.add(f"{path}.grid", v["grid"], "expected an integer from 1 to 512")
+                continue
+            joints[name] = JointWear(float(coef), int(v["grid"]), float(v["smoothing"]))
+    if len(problems) > n0:
+        return None
+    return WearSettings(
+        joints,
+        float(kw["cycles"]),
+        None if uf == "auto" else float(uf),
+        float(kw["max_step"]),
+        math.inf if kw.get("max_factor") is None else float(kw["max_factor"]),
+        float(kw["warmup"]),
+        None if kw.get("cycle_time") is None else float(kw["cycle_time"]),
+    )
