@@ -33,13 +33,13 @@ LAYERS = [
     {"<root>"},  # clearance/__init__.py: the public API (re-exports of the core)
     {"io"},  # files: NetCDF, CSV, MAT
     {"nonlinear"},  # steady states, Poincare maps, spectra, Lyapunov exponents (on runs, files)
-    {"wear"},  # wear maps and Archard's law (issue 16: not yet in the dynamics)
     {"mechanisms"},  # ready-made mechanisms
     {"scenario"},  # scenario files
     {"plot"},
     {"view"},  # the 3-D viewer and videos (from result files)
     {"pipeline"},
     {"sweep"},
+    {"wear"},  # wear maps, Archard's law and the wear loop over runs (issue 16)
     {"cli"},
 ]
 CORE = {

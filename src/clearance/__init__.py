@@ -87,6 +87,7 @@ from clearance.model.contact_laws import (
     ZhiyingQishao,
 )
 from clearance.model.functions import Polynomial, Ramp, Sinusoid, Tabulated
+from clearance.model.wear import SocketWear
 from clearance.parallel import (
     Leg,
     Link,
@@ -144,6 +145,7 @@ __all__ = [
     "Tabulated",
     "Clearance",
     "SphericalClearance",
+    "SocketWear",
     "RevoluteClearance",
     "PrismaticClearance",
     "UniversalClearance",

@@ -558,7 +558,7 @@ def wear(
     2: invalid input; 130: Ctrl-C (the iterations done are kept)."""
     from clearance.model.errors import KinematicsError, ModelError
     from clearance.scenario import ScenarioError
-    from clearance.wear.predict import WearRunError, predict_wear
+    from clearance.wear.predict import WearRunError, WearStateError, predict_wear
 
     try:
         w = predict_wear(
@@ -568,7 +568,7 @@ def wear(
         for line in e.lines():
             typer.echo(line, err=True)
         raise typer.Exit(2) from None
-    except (KinematicsError, ModelError) as e:
+    except (KinematicsError, ModelError, WearStateError) as e:
         typer.echo(f"error: {e}", err=True)
         raise typer.Exit(2) from None
     except WearRunError as e:

@@ -21,25 +21,33 @@ n_dot = (e_dot - n (n . e_dot)) / |e|.
 
 Worn socket (issue 16; `clearance.model.wear.SocketWear`, rows clr_ix[k, CI_W0] ..
 + CI_NW of Model.clr_wear, each [c_x, c_y, c_z, h Omega, Omega] in the outer marker frame,
-and the smoothing radius rho = clr_geo[k, CG_K0 + 2]). The socket's radius in the direction
-u (unit, outer marker frame) is R_s + h(u), with the worn depth the smooth field
+and the smoothing radius rho = clr_geo[k, CG_K0 + 2]). The gap is measured along the line
+of centres, with the depth the smooth field
 
     h(u) = sum_i h_i Omega_i phi_i(u) / sum_i Omega_i phi_i(u),  phi_i = phi(|u - c_i| / rho)
 
 (Shepard's partition of unity with Wendland's C2 function phi(r) = (1 - r)^4 (4 r + 1),
-r < 1: the cells' depths h_i, solid angles Omega_i; h is C2 and reproduces a uniform depth
-exactly). The gap is measured along the line of centres, as in the wear literature
-(docs/notes/wear-literature.md section 4):
+r < 1: the samples' depths h_i, solid angles Omega_i; h is C2 and reproduces a uniform
+depth exactly):
 
     delta = |e| - c - h(u),  u = T^T A_s^T n.
+
+The samples are not the worn depth itself but the reachable depth
+(`clearance.wear.surface.SphereWearMap.reachable_depth`): how far beyond c the ball's
+centre can move along u before it touches the worn surface anywhere. With the worn depth
+the line-of-centres gap would let the ball sink into a pocket narrower than itself; with
+the reachable depth delta = 0 where the ball first touches the worn surface (to the
+smoothing), at the pocket's rim, and the tangential part of the force below holds the ball
+in a pocket it fits.
 
 The force is its exact gradient (virtual work, f.4): with g_t the world gradient of h
 w.r.t. the direction, tangent to n, d delta = (n - g_t / |e|) . de + dphi_s . (n x g_t)
 (dphi_s: a rotation of the socket, which turns its worn surface). Its direction is the
 worn surface's normal n' = nu / m, nu = n - g_t / |e|, m = |nu|, and it acts at one line
 through P_b along n': Q_b = P_b + R_b n', Q_s = Q_b - delta n' (so delta = n' . (Q_b -
-Q_s), and Q_s is the socket's surface point R_s n of the unworn joint). The normal law is
-evaluated at (delta, delta_dot) and the force on b is -m F_N n' (element.py: the ninth
+Q_s); unworn, Q_s would be the socket's surface point P_s + R_s n; worn, the points are
+on the line of action, not the true contact point, which the wear's overlap finds). The
+normal law is evaluated at (delta, delta_dot) and the force on b is -m F_N n' (element.py: the ninth
 entry m of the geometry; 1 for every unworn contact). delta_dot is the exact rate,
 n . e_dot - g . (n_dot - omega_s x n), and n_dot the exact rate of n' (the field's Hessian
 along u_dot).
@@ -68,7 +76,7 @@ def gap(model, p, k, bA, br, fval):
     Pb = add((br[b, 0], br[b, 1], br[b, 2]), arm_b)
     e = sub(Pb, Ps)
     el = math.sqrt(dot(e, e))
-    if model.clr_ix[k, CI_NW] == 0:
+    if model.clr_ix[k, CI_NW] == 0 or el == 0.0:
         return el - model.clr_geo[k, CG_C]
     u = _to_marker(bA[s], model.clr_T[k, 0], scale(1.0 / el, e))
     h, _, _ = worn_depth(model, k, u, (0.0, 0.0, 0.0))

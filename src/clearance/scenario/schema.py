@@ -1183,6 +1183,12 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
             if isinstance(j, Clearance)
         )
         wear = parse_wear(t, sph, problems)
+        if wear is not None and traj is not None and wear.warmup >= traj.duration:
+            problems.add(
+                "wear.warmup",
+                wear.warmup,
+                f"expected less than the run's duration ({traj.duration:g} s, [trajectory])",
+            )
     problems.raise_if_any()
     return Scenario(
         meta,  # type: ignore[arg-type]

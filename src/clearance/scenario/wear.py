@@ -3,9 +3,10 @@
     [wear]
     cycles = 1e6              # cycles to predict (one cycle: the run after warmup)
     update_factor = "auto"    # cycles per iteration, or "auto": each iteration deepens a
-    max_step = 0.1            # socket by at most max_step x its clearance
+    max_step = 0.05           # socket by at most max_step x its clearance
     warmup = 0.05             # [s] the start of each run not counted (default 0)
     cycle_time = 0.4          # [s] length of one cycle (default: the counted run)
+    dt_out = 2e-5             # [s] output step of the wear runs (default 2e-5)
 
     [wear.joints.S_1]         # a spherical clearance joint of [clearance.joints]
     coefficient = 1e-15       # Archard's k / H [m^2/N]; or k = ..., hardness = ... [Pa]
@@ -29,10 +30,11 @@ __all__ = ["JOINT_WEAR_FIELDS", "WEAR_FIELDS", "JointWear", "WearSettings", "par
 
 WEAR_FIELDS = {
     "cycles": Field("positive", doc="cycles to predict"),
-    "max_step": Field("positive", 0.1, doc="auto: largest depth per iteration / clearance"),
+    "max_step": Field("positive", 0.05, doc="auto: largest depth per iteration / clearance"),
     "max_factor": Field("positive", None, doc="auto: most cycles per iteration"),
     "warmup": Field("nonneg", 0.0, "s", "start of each run not counted"),
     "cycle_time": Field("positive", None, "s", "length of one cycle; default: the counted run"),
+    "dt_out": Field("positive", 2e-5, "s", "output step of the wear runs"),
     "joints": Field(
         "table", doc="per spherical clearance joint: { coefficient | k, hardness, grid, smoothing }"
     ),
@@ -42,7 +44,9 @@ JOINT_WEAR_FIELDS = {
     "k": Field("positive", None, "", "Archard's dimensionless wear coefficient"),
     "hardness": Field("positive", None, "Pa", "hardness H of the softer surface"),
     "grid": Field("count", 32, doc="cells per cube face of the depth map"),
-    "smoothing": Field("positive", 2.0, doc="smoothing radius of the worn gap [cells]"),
+    "smoothing": Field(
+        "positive", 2.0, doc="smoothing radius of the worn gap [cells]", minimum=1.0
+    ),
 }
 
 
@@ -64,15 +68,19 @@ class WearSettings:
     """The loop: total `cycles`; update_factor: cycles per iteration (None: adaptive, each
     iteration at most `max_step` x c deeper, and at most `max_factor` cycles); warmup [s]:
     the start of each run not counted (the ball settling from its initial placement);
-    cycle_time [s]: the length of one cycle (None: the counted part of the run is one)."""
+    cycle_time [s]: the length of one cycle (None: the counted part of the run is one);
+    dt_out [s]: the runs' output step (the wear is summed over the output samples: on the
+    4UPS-UPU the sampled F_N |v| dt differs from the kernel's step-by-step friction work
+    by 3e-4 and 2e-5 at 20 us, 1.8 and 4.6 % at the scenario's 100 us)."""
 
     joints: Mapping[str, JointWear]
     cycles: float
     update_factor: float | None = None
-    max_step: float = 0.1
+    max_step: float = 0.05
     max_factor: float = math.inf
     warmup: float = 0.0
     cycle_time: float | None = None
+    dt_out: float = 2e-5
 
     def to_dict(self) -> dict:
         """The plain [wear] table."""
@@ -81,6 +89,7 @@ class WearSettings:
             "update_factor": "auto" if self.update_factor is None else self.update_factor,
             "max_step": self.max_step,
             "warmup": self.warmup,
+            "dt_out": self.dt_out,
             "joints": {k: vars(v).copy() for k, v in self.joints.items()},
         }
         if math.isfinite(self.max_factor):
@@ -117,7 +126,10 @@ def parse_wear(t: dict, spherical: tuple[str, ...], problems: Problems) -> WearS
                 continue
             if (b := table_at(body, path, problems)) is None:
                 continue
+            n1 = len(problems)
             v = parse_table(b, JOINT_WEAR_FIELDS, path, problems)
+            if len(problems) > n1:
+                continue
             coef = v.get("coefficient")
             if coef is None and v.get("k") is not None and v.get("hardness") is not None:
                 coef = v["k"] / v["hardness"]
@@ -146,4 +158,5 @@ def parse_wear(t: dict, spherical: tuple[str, ...], problems: Problems) -> WearS
         math.inf if kw.get("max_factor") is None else float(kw["max_factor"]),
         float(kw["warmup"]),
         None if kw.get("cycle_time") is None else float(kw["cycle_time"]),
+        float(kw["dt_out"]),
     )

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from clearance.wear.surface import SphereWearMap, hertz_conformal, hertz_patch
+from clearance.wear.surface import SphereWearMap, hertz_conformal, hertz_patch, overlap_patch
 
 __all__ = ["socket_wear", "trapezoid_weights"]
 
@@ -46,11 +46,15 @@ def socket_wear(
     e_star: float,
     n: int = 64,
     surface: SphereWearMap | None = None,
+    worn: SphereWearMap | None = None,
 ) -> tuple[SphereWearMap, float]:
     """(wear map of the socket of spherical clearance joint `joint`, integral of
     F_N |v_slip| dt over the samples [N m]) from a run's dataset (`clearance run`'s
     clearance group, or `result_to_dataset`). k_w: k / H [m^2 / N]; e_star: contact
     modulus [Pa]; n: cells per cube face; surface: a map to add to (default: a new one).
+    worn: the socket's wear during the run (the map the run's SocketWear came from): the
+    pressure is then the elastic foundation's over the ball's overlap with the worn
+    surface (`overlap_patch`), else the Hertz patch at e / |e| of the unworn socket.
     """
     names = [str(c) for c in ds["clearance"].values]
     if joint not in names:
@@ -62,6 +66,8 @@ def socket_wear(
     r_in = float(ds["ball_radius"].values[j])
     r_out = float(ds["socket_radius"].values[j])
     m = surface if surface is not None else SphereWearMap(r_out, n)
+    if worn is not None and (worn.n != m.n or worn.depth.shape != m.depth.shape):
+        raise ValueError(f"worn has {worn.n} cells per face, the map {m.n}: expected the same grid")
     t = np.asarray(ds["time"].values, dtype=float)
     w = trapezoid_weights(t)
     e = np.asarray(ds["eccentricity"].values[:, j], dtype=float)
@@ -75,7 +81,10 @@ def socket_wear(
             continue
         a, _ = hertz_conformal(float(fn[k]), r_in, r_out, e_star)
         ds_k = float(slip[k] * w[k])
-        cells, dh = hertz_patch(m, e[k] / norm, float(fn[k]), a, ds_k, k_w)
+        if worn is not None:
+            cells, dh = overlap_patch(worn, e[k], r_out - r_in, float(fn[k]), a, ds_k, k_w)
+        else:
+            cells, dh = hertz_patch(m, e[k] / norm, float(fn[k]), a, ds_k, k_w)
         depth[cells] += dh
         work += float(fn[k]) * ds_k
     return m, work

@@ -37,6 +37,8 @@ __all__ = [
     "CycleWear",
     "JointWear",
     "WearLoop",
+    "WearRunError",
+    "WearStateError",
     "WearSettings",
     "predict_wear",
     "run_wear_loop",
@@ -75,6 +77,7 @@ class WearLoop:
     clearances: dict  # joint -> c [m]
     rows: list = field(default_factory=list)
     done: bool = False
+    depths: list = field(default_factory=list)  # per row: {joint: depth (6, n, n)} of its run
 
     @property
     def cycles(self) -> float:
@@ -111,6 +114,15 @@ class WearLoop:
             long_name="RMS platform position deviation from the ideal run", units="m"
         )
         for j, m in self.maps.items():
+            if self.depths:
+                ds[f"depth_history_{j}"] = (
+                    ("iteration", "face", "i", "j"),
+                    np.array([d[j] for d in self.depths], dtype=np.float32),
+                )
+                ds[f"depth_history_{j}"].attrs.update(
+                    long_name=f"wear depth of the socket of {j} in each iteration's run",
+                    units="m",
+                )
             ds[f"depth_{j}"] = (("face", "i", "j"), m.depth)
             ds[f"depth_{j}"].attrs.update(
                 long_name=f"wear depth of the socket of {j} (socket marker frame)",
@@ -124,6 +136,7 @@ class WearLoop:
 
 
 def _row(state: WearLoop, factor: float, cw: CycleWear) -> dict:
+    state.depths.append({j: m.depth.copy() for j, m in state.maps.items()})
     row = {"cycles": state.cycles, "factor": factor, "platform": cw.platform_deviation}
     for name in JOINT_VARS:
         row[name] = {}
@@ -138,7 +151,7 @@ def _row(state: WearLoop, factor: float, cw: CycleWear) -> dict:
 
 
 def run_wear_loop(
-    cycle: Callable[[dict], CycleWear],
+    cycle: Callable[[dict, dict], CycleWear],
     settings: WearSettings,
     state: WearLoop,
     *,
@@ -146,17 +159,21 @@ def run_wear_loop(
     save: Callable[[WearLoop], None] | None = None,
     max_iterations: int | None = None,
 ) -> WearLoop:
-    """Iterate: run `cycle(worn)` with the current worn sockets, extrapolate its wear by
-    the update factor, save. `max_iterations`: stop after that many runs (resumable)."""
+    """Iterate: run `cycle(worn, maps)` with the current worn sockets (worn: {joint:
+    SocketWear} for the dynamics, maps: {joint: SphereWearMap}, the depth maps they come
+    from, not to be changed), extrapolate its wear by the update factor, save.
+    `max_iterations`: stop after that many runs (resumable)."""
     smoothing = {j: s.smoothing for j, s in settings.joints.items()}
     runs = 0
     while not state.done:
         if max_iterations is not None and runs >= max_iterations:
             break
-        cw = cycle(state.worn(smoothing))
+        cw = cycle(state.worn(smoothing), state.maps)
         runs += 1
         remaining = settings.cycles - state.cycles
-        if remaining <= 0.0:  # the last run: the worn mechanism measured, no wear added
+        if (
+            remaining <= 1e-9 * settings.cycles
+        ):  # the last run: the worn mechanism measured, no wear added
             state.rows.append(_row(state, 0.0, cw))
             state.done = True
         else:
@@ -167,7 +184,14 @@ def run_wear_loop(
                 factor = min(remaining, settings.max_factor)
                 if rate > 0.0:
                     factor = min(factor, settings.max_step / rate)
-                factor = max(factor, min(1.0, remaining))
+                if factor < min(1.0, remaining):  # one cycle at least: say max_step is exceeded
+                    factor = min(1.0, remaining)
+                    if log is not None:
+                        log(
+                            f"[wear] one cycle deepens a socket by {rate:.3g} x its clearance, "
+                            f"more than max_step = {settings.max_step:g}: the iteration stands "
+                            "for one cycle"
+                        )
             state.rows.append(_row(state, factor, cw))
             for j, m in state.maps.items():
                 m.depth += factor * cw.increment[j]
@@ -190,10 +214,14 @@ def run_wear_loop(
 
 def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log):
     """The `cycle` callable of a scenario: one run of its clearance mechanism, worn."""
+    import dataclasses
+
     from clearance.io.dataset import result_to_dataset
     from clearance.pipeline import run_scenario
 
-    def cycle(worn: dict) -> CycleWear:
+    s = dataclasses.replace(s, solver=dataclasses.replace(s.solver, dt_out=settings.dt_out))
+
+    def cycle(worn: dict, maps: dict) -> CycleWear:
         o = run_scenario(
             s, figures=False, log=run_log, reuse_ideal=True, defer_write=True, wear=worn
         )
@@ -210,7 +238,7 @@ def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log):
         per = (settings.cycle_time or counted) / counted
         inc, work, metrics = {}, {}, {}
         for j, js in settings.joints.items():
-            m, w = socket_wear(ds, j, k_w=js.coefficient, e_star=e_star[j], n=js.grid)
+            m, w = socket_wear(ds, j, k_w=js.coefficient, e_star=e_star[j], n=js.grid, worn=maps[j])
             inc[j] = per * m.depth
             work[j] = per * w
             metrics[j] = o.summary["joints"].get(j, {})
@@ -218,6 +246,10 @@ def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log):
         return CycleWear(inc, work, metrics, float(dev))
 
     return cycle
+
+
+class WearStateError(ValueError):
+    """The output folder's wear.nc belongs to another scenario."""
 
 
 class WearRunError(RuntimeError):
@@ -242,7 +274,11 @@ def _load_state(path: Path, key: str, maps: dict, clearances: dict) -> WearLoop 
     with xr.open_dataset(path, engine="netcdf4") as ds:
         ds = ds.load()
     if ds.attrs.get("key") != key:
-        return None
+        raise WearStateError(
+            f"{path} holds the wear prediction of another scenario (or other [wear] "
+            "settings): run with --restart (restart=True) to replace it, or choose another "
+            "output folder"
+        )
     st = WearLoop(maps, clearances, done=bool(ds.attrs.get("done", 0)))
     joints = [str(j) for j in ds["joint"].values]
     for i in range(ds.sizes["iteration"]):
@@ -256,6 +292,11 @@ def _load_state(path: Path, key: str, maps: dict, clearances: dict) -> WearLoop 
         st.rows.append(row)
     for j, m in maps.items():
         m.depth[:] = ds[f"depth_{j}"].values
+    if all(f"depth_history_{j}" in ds for j in maps):
+        st.depths = [
+            {j: ds[f"depth_history_{j}"].values[i].astype(float) for j in maps}
+            for i in range(ds.sizes["iteration"])
+        ]
     return st
 
 

@@ -27,7 +27,10 @@ import numpy as np
 
 from clearance.model.wear import SocketWear
 
-__all__ = ["SphereWearMap", "archard_hertz", "hertz_conformal", "hertz_patch"]
+__all__ = ["SphereWearMap", "archard_hertz", "hertz_conformal", "hertz_patch", "overlap_patch"]
+
+#: fewest cells in the overlap for its pressure distribution to be used (`overlap_patch`)
+MIN_OVERLAP_CELLS = 7
 
 # face k: (N, U, V) with U x V = N
 _FACES = np.array(
@@ -113,26 +116,64 @@ class SphereWearMap:
         j = np.clip(((eta + _Q) / (2 * _Q) * self.n).astype(np.int64), 0, self.n - 1)
         return f, i, j
 
-    def socket_wear(self, smoothing: float = 2.0) -> SocketWear:
-        """The worn socket as the dynamics sees it (`clearance.model.wear.SocketWear`):
-        Shepard's interpolation of the cells' depths with a Wendland weight of radius
-        rho = smoothing x the cells' mean width (pi / 2 / n on the unit sphere), over the
-        worn cells and the unworn ones within 2 rho of them."""
+    def reachable_depth(self, clearance: float) -> np.ndarray:
+        """H (6, n, n) [m]: how far beyond the clearance c the ball's centre can move along
+        each cell's direction u before it touches the worn socket anywhere,
+
+            c + H(u) = min over v with u . v > 0 of (c + h(v)) / (u . v),
+
+        the overlap of the ball (centre e) with the socket being e . v - c - h(v) in the
+        direction v (to first order in c / R). So 0 <= H <= h; H = h for a surface the ball
+        fits (its imprint, a wide shallow wear), and H < h at the bottom of a pocket
+        narrower than the ball, which the ball cannot reach: it rests on the rim. The
+        gap along the line of centres with H, |e| - c - H(e / |e|), is then zero exactly
+        where the ball first touches the worn surface (contact/spherical.py)."""
+        c = float(clearance)
+        h = self.depth.reshape(-1)
+        H = np.zeros_like(h)
+        if not (h > 0.0).any():
+            return H.reshape(self.depth.shape)
+        from scipy.spatial import cKDTree
+
+        cells = self.centres.reshape(-1, 3)
+        cos_n = c / (c + float(h.max()))  # only these v can limit: u . v > c / (c + h_max)
+        chord = math.sqrt(max(0.0, 2.0 * (1.0 - cos_n))) + 1e-12
+        tree = cKDTree(cells)
+        cand = np.unique(np.concatenate(tree.query_ball_point(cells[h > 0.0], chord)))
+        for u, near in zip(cand, tree.query_ball_point(cells[cand], chord), strict=True):
+            near = np.asarray(near)
+            H[u] = float(np.min((c + h[near]) / (cells[near] @ cells[u]))) - c
+        return np.clip(H, 0.0, h).reshape(self.depth.shape)
+
+    def socket_wear(self, clearance: float, smoothing: float = 2.0) -> SocketWear:
+        """The worn socket as the dynamics sees it (`clearance.model.wear.SocketWear`): the
+        reachable depth H (`reachable_depth`) interpolated by Shepard's method with a
+        Wendland weight of radius rho = smoothing x the cells' mean width (pi / 2 / n on
+        the unit sphere; smoothing >= 1, else the weights leave holes), over the cells
+        with H > 0 and those within 2 rho of them."""
         from scipy.spatial import cKDTree
 
         if not self.outer:
             raise ValueError("socket_wear: this map is a ball's (outer=False)")
-        if not smoothing > 0:
-            raise ValueError(f"smoothing = {smoothing}: expected a number > 0 (cell widths)")
+        if not smoothing >= 1.0:
+            raise ValueError(f"smoothing = {smoothing}: expected a number >= 1 (cell widths)")
         rho = min(2.0, smoothing * 0.5 * math.pi / self.n)
         c = self.centres.reshape(-1, 3)
-        h = self.depth.reshape(-1)
+        h = self.reachable_depth(clearance).reshape(-1)
         worn = h > 0.0
         if not worn.any():
             return SocketWear(np.zeros((0, 3)), np.zeros(0), np.zeros(0), rho)
         dist, _ = cKDTree(c[worn]).query(c, distance_upper_bound=2.0 * rho)
         keep = np.isfinite(dist)
         return SocketWear(c[keep], h[keep], self.solid_angle.reshape(-1)[keep], rho)
+
+    def overlap(self, e: np.ndarray, clearance: float) -> np.ndarray:
+        """(6 n^2,) the overlap e . v - c - h(v) [m] of the ball centred at e (socket
+        frame, from the socket's centre) with each cell v (> 0: the ball is inside the
+        worn surface there; to first order in c / R)."""
+        return (
+            self.centres.reshape(-1, 3) @ np.asarray(e, float) - clearance - self.depth.reshape(-1)
+        )
 
     def depth_at(self, u: np.ndarray) -> np.ndarray:
         """The depth of the cells holding directions u (piecewise constant; the smooth
@@ -214,3 +255,34 @@ def hertz_patch(
         cell = int(np.ravel_multi_index((int(f), int(i), int(j)), surface.depth.shape))
         return np.array([cell]), np.array([k_w * force * slip / areas[cell]])
     return near, k_w * force * slip * p / total
+
+
+def overlap_patch(
+    surface: SphereWearMap,
+    e: np.ndarray,
+    clearance: float,
+    force: float,
+    contact_radius: float,
+    slip: float,
+    k_w: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(flat cell indices, depth increments [m]) of Archard's law for one contact of the
+    ball centred at e (socket frame) with the socket as worn in `surface`: the pressure is
+    the elastic foundation's, proportional to the overlap e . v - c - h(v) > 0 of each
+    cell (SphereWearMap.overlap), scaled so that sum(p A) = force; so the wear goes where
+    the ball presses into the worn surface (its rims, in a pocket narrower than the ball).
+    Where fewer than MIN_OVERLAP_CELLS cells overlap (a contact smaller than the grid
+    resolves), a Hertz patch (`hertz_patch`) at the deepest overlap, of radius
+    contact_radius but at least 1.5 cell widths: a patch the grid cannot resolve would put
+    the wear of that contact into one cell, a needle the ball never reaches again. The
+    volume is k_w F s either way."""
+    if force <= 0 or slip <= 0:
+        return np.zeros(0, dtype=np.int64), np.zeros(0)
+    d = surface.overlap(e, clearance)
+    inside = np.flatnonzero(d > 0.0)
+    if inside.size >= MIN_OVERLAP_CELLS:
+        w = d[inside] * surface.areas.reshape(-1)[inside]
+        return inside, k_w * force * slip * d[inside] / float(np.sum(w))
+    centre = surface.centres.reshape(-1, 3)[int(np.argmax(d))] if surface.depth.any() else e
+    radius = max(contact_radius, 1.5 * 0.5 * math.pi / surface.n * surface.radius)
+    return hertz_patch(surface, centre, force, radius, slip, k_w)
