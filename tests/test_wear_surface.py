@@ -106,3 +106,41 @@ def test_a_patch_smaller_than_the_cells_goes_into_one_cell():
     assert np.count_nonzero(dh) == 1
     assert np.sum(dh * s.areas) == pytest.approx(1e-13 * 10.0 * 0.5, rel=1e-12)
     assert not archard_hertz(s, [1, 0, 0], 0.0, 1e-5, 0.5, 1e-13).any()
+
+
+@pytest.mark.parametrize("worn", [False, True], ids=["unworn", "worn"])
+def test_vectorised_samples_deposit_what_the_single_patches_do(worn):
+    """archard_samples (chunks of samples over the cells near them) adds exactly what
+    hertz_patch / overlap_patch add one sample at a time (over every cell): random contacts
+    around two directions, a socket with and without a pocket; small penetrations (the Hertz
+    fallback) and deep ones (the overlap's pressure)."""
+    from clearance.wear.surface import archard_samples, hertz_patch, overlap_patch
+
+    rng = np.random.default_rng(4)
+    c, n = 3e-4, 24
+    base = SphereWearMap(R, n)
+    if worn:
+        u0 = np.array([0.0, -0.6, -0.8])
+        cos = base.centres @ u0
+        base.depth = np.maximum(0.0, 30e-6 * (cos - 0.985) / 0.015)
+    k = 300
+    dirs = np.array([0.0, -0.6, -0.8]) + 0.15 * rng.normal(size=(k, 3))
+    dirs[: k // 2] += np.array([0.0, 1.2, 0.0])
+    dirs /= np.linalg.norm(dirs, axis=1)[:, None]
+    e = dirs * (c + rng.uniform(-1e-6, 25e-6, size=k))[:, None]
+    F = rng.uniform(0.0, 500.0, size=k)
+    F[::7] = 0.0
+    s = rng.uniform(0.0, 1e-4, size=k)
+    a = rng.uniform(2e-4, 2e-3, size=k)
+    ref = SphereWearMap(R, n)
+    flat = ref.depth.reshape(-1)
+    for i in range(k):
+        if worn:
+            cells, dh = overlap_patch(base, e[i], c, F[i], a[i], s[i], 1e-14)
+        else:
+            cells, dh = hertz_patch(base, e[i], F[i], a[i], s[i], 1e-14)
+        flat[cells] += dh
+    got = SphereWearMap(R, n)
+    archard_samples(got, e, F, s, a, 1e-14, worn=base if worn else None, clearance=c, chunk=37)
+    assert ref.depth.max() > 0
+    np.testing.assert_allclose(got.depth, ref.depth, rtol=1e-10, atol=1e-12 * ref.depth.max())

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from clearance.wear.surface import SphereWearMap, hertz_conformal, hertz_patch, overlap_patch
+from clearance.wear.surface import SphereWearMap, archard_samples
 
 __all__ = ["socket_wear", "trapezoid_weights"]
 
@@ -73,18 +73,10 @@ def socket_wear(
     e = np.asarray(ds["eccentricity"].values[:, j], dtype=float)
     fn = np.abs(np.asarray(ds["contact_force"].values[:, j], dtype=float))
     slip = np.linalg.norm(np.asarray(ds["slip_velocity"].values[:, j], dtype=float), axis=1)
-    work = 0.0
-    depth = m.depth.reshape(-1)  # (a view: adds go to the map)
-    for k in np.flatnonzero((fn > 0) & (slip > 0) & (w > 0)):
-        norm = float(np.linalg.norm(e[k]))
-        if norm == 0.0:
-            continue
-        a, _ = hertz_conformal(float(fn[k]), r_in, r_out, e_star)
-        ds_k = float(slip[k] * w[k])
-        if worn is not None:
-            cells, dh = overlap_patch(worn, e[k], r_out - r_in, float(fn[k]), a, ds_k, k_w)
-        else:
-            cells, dh = hertz_patch(m, e[k] / norm, float(fn[k]), a, ds_k, k_w)
-        depth[cells] += dh
-        work += float(fn[k]) * ds_k
+    use = np.flatnonzero((fn > 0) & (slip > 0) & (w > 0) & (np.linalg.norm(e, axis=1) > 0))
+    ds_k = slip[use] * w[use]
+    r_star = r_in * r_out / (r_out - r_in)  # Hertz's contact radius (hertz_conformal)
+    radius = (3.0 * fn[use] * r_star / (4.0 * e_star)) ** (1.0 / 3.0)
+    archard_samples(m, e[use], fn[use], ds_k, radius, k_w, worn=worn, clearance=r_out - r_in)
+    work = float(np.sum(fn[use] * ds_k))
     return m, work

@@ -27,7 +27,14 @@ import numpy as np
 
 from clearance.model.wear import SocketWear
 
-__all__ = ["SphereWearMap", "archard_hertz", "hertz_conformal", "hertz_patch", "overlap_patch"]
+__all__ = [
+    "SphereWearMap",
+    "archard_hertz",
+    "archard_samples",
+    "hertz_conformal",
+    "hertz_patch",
+    "overlap_patch",
+]
 
 #: fewest cells in the overlap for its pressure distribution to be used (`overlap_patch`)
 MIN_OVERLAP_CELLS = 7
@@ -286,3 +293,77 @@ def overlap_patch(
     centre = surface.centres.reshape(-1, 3)[int(np.argmax(d))] if surface.depth.any() else e
     radius = max(contact_radius, 1.5 * 0.5 * math.pi / surface.n * surface.radius)
     return hertz_patch(surface, centre, force, radius, slip, k_w)
+
+
+def archard_samples(
+    target: SphereWearMap,
+    e: np.ndarray,
+    force: np.ndarray,
+    slip: np.ndarray,
+    contact_radius: np.ndarray,
+    k_w: float,
+    *,
+    worn: SphereWearMap | None = None,
+    clearance: float = 0.0,
+    chunk: int = 256,
+) -> None:
+    """Add to target.depth the wear of many contact samples at once: rows of e (k, 3) [m]
+    (ball centre from the socket's centre, socket frame), force (k,) [N], slip (k,) slip
+    distance [m], contact_radius (k,) Hertz radius [m]. Each sample is deposited as
+    `overlap_patch` (worn given: the socket's wear during the run, same grid) or
+    `hertz_patch` at e / |e| (worn None) would deposit it; vectorised over chunks of
+    consecutive samples, each over the cells near that chunk's contact directions."""
+    e = np.asarray(e, float).reshape(-1, 3)
+    force, slip = np.asarray(force, float), np.asarray(slip, float)
+    a = np.asarray(contact_radius, float)
+    cells = target.centres.reshape(-1, 3)
+    areas = target.areas.reshape(-1)
+    out = target.depth.reshape(-1)  # (a view)
+    R = target.radius
+    width = 0.5 * math.pi / target.n  # a cell's mean width [rad]
+    h = worn.depth.reshape(-1) if worn is not None else np.zeros(cells.shape[0])
+    if worn is not None and h.shape != out.shape:
+        raise ValueError(f"worn has {worn.n} cells per face, the target {target.n}")
+    worn_any = bool(worn is not None and h.any())
+    use = np.flatnonzero((force > 0) & (slip > 0) & (np.linalg.norm(e, axis=1) > 0))
+    for i in range(0, use.size, chunk):
+        k = use[i : i + chunk]
+        E = e[k]
+        el = np.linalg.norm(E, axis=1)
+        n = E / el[:, None]
+        mean = n.sum(axis=0)
+        mean /= np.linalg.norm(mean)
+        dev = float(np.max(np.arccos(np.clip(n @ mean, -1.0, 1.0))))
+        a_k = a[k] if worn is None else np.maximum(a[k], 1.5 * width * R)
+        cap = reach = 0.0
+        if worn is not None:  # the overlap lies in the unworn one's cap around e / |e|
+            cap = float(np.max(np.arccos(np.clip(clearance / el, -1.0, 1.0))))
+        if worn_any:  # and the deepest overlap where e . v - c >= |e| - c - h_max
+            reach = math.acos(max(-1.0, 1.0 - float(h.max()) / float(el.min())))
+        ang = dev + max(cap, reach, float(np.max(a_k)) / R) + 2.0 * width
+        local = np.flatnonzero(cells @ mean > math.cos(min(ang, math.pi)))
+        C, A = cells[local], areas[local]
+        fs = k_w * force[k] * slip[k]
+        dep = np.zeros((k.size, local.size))
+        centre = n
+        hertz = np.ones(k.size, dtype=bool)
+        if worn is not None:
+            D = E @ C.T - clearance - h[local]
+            W = np.where(D > 0.0, D, 0.0)
+            efm = np.count_nonzero(W, axis=1) >= MIN_OVERLAP_CELLS
+            dep[efm] = fs[efm, None] * W[efm] / (W[efm] @ A)[:, None]
+            hertz = ~efm
+            if worn_any:
+                centre = C[np.argmax(D, axis=1)]
+        if hertz.any():
+            cosr = np.clip(centre[hertz] @ C.T, -1.0, 1.0)
+            P = np.sqrt(np.clip(1.0 - (R * np.arccos(cosr) / a_k[hertz, None]) ** 2, 0.0, None))
+            tot = P @ A
+            ok = tot > 0.0
+            rows = np.flatnonzero(hertz)
+            dep[rows[ok]] = fs[rows[ok], None] * P[ok] / tot[ok, None]
+            for r in rows[~ok]:  # the patch misses every cell centre: the cell holding it
+                f, ii, jj = target.cell_of(centre[r])
+                cell = int(np.ravel_multi_index((int(f), int(ii), int(jj)), target.depth.shape))
+                out[cell] += fs[r] / areas[cell]
+        out[local] += dep.sum(axis=0)
