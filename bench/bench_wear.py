@@ -88,6 +88,30 @@ def main() -> None:
         for j, m in w.state.maps.items():  # where the wear is, in the socket frame
             k = int(np.argmax(m.depth))
             print(f"  {j}: deepest cell at {np.round(m.centres.reshape(-1, 3)[k], 3)}")
+    # where the ball presses: the force-weighted mean contact direction of an unworn run
+    from clearance.io.dataset import result_to_dataset
+    from clearance.pipeline import run_scenario
+
+    o = run_scenario(default_scenario_path("ups_upu"), figures=False, log=None, defer_write=True)
+    ds = result_to_dataset(o.clearance, outputs=("clearance",))
+    names = [str(c) for c in ds["clearance"].values]
+    print("\nthe wear against the load (socket frame), last max_step:")
+    for j, m in w.state.maps.items():
+        k = names.index(j)
+        e = ds["eccentricity"].values[:, k]
+        f = np.abs(ds["contact_force"].values[:, k])
+        load = (f[:, None] * e / np.maximum(np.linalg.norm(e, axis=1), 1e-300)[:, None]).sum(0)
+        load /= np.linalg.norm(load)
+        d = m.depth.reshape(-1)
+        cells = m.centres.reshape(-1, 3)
+        deep = cells[int(np.argmax(d))]
+        mean = (d[:, None] * m.areas.reshape(-1)[:, None] * cells).sum(0)
+        mean /= np.linalg.norm(mean)
+        ang = np.degrees(np.arccos(np.clip([deep @ load, mean @ load], -1, 1)))
+        print(
+            f"  {j}: mean load direction {np.round(load, 3)}; deepest cell {ang[0]:.1f} deg "
+            f"and volume-weighted wear direction {ang[1]:.1f} deg from it"
+        )
     print("\nfinal worn volume [mm3] / max depth [um] per max_step:")
     for step, f in finals.items():
         print(

@@ -109,7 +109,8 @@ def test_the_update_factor_does_not_change_the_result():
     0.05, 0.025 and 0.0125 (5, 10, 16 runs) gives the same worn volume and maximum depth
     to 0.1 %. Measured: 6.863, 6.868, 6.868 um; 1.4943, 1.4943, 1.4951e-10 m^3. (With
     max_step 0.1, 3 runs, the first iteration digs 10 um into a cap narrower than the
-    seat: 10.0 um, hence the default 0.05.)"""
+    seat: 10.0 um. The 4UPS-UPU needs smaller steps still: bench/bench_wear.py, and the
+    default 0.01.)"""
     from models import rod_on_clearance_joint
 
     base = rod_on_clearance_joint(

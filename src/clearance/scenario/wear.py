@@ -3,7 +3,7 @@
     [wear]
     cycles = 1e6              # cycles to predict (one cycle: the run after warmup)
     update_factor = "auto"    # cycles per iteration, or "auto": each iteration deepens a
-    max_step = 0.05           # socket by at most max_step x its clearance
+    max_step = 0.01           # socket by at most max_step x its clearance
     warmup = 0.05             # [s] the start of each run not counted (default 0)
     cycle_time = 0.4          # [s] length of one cycle (default: the counted run)
     dt_out = 2e-5             # [s] output step of the wear runs (default 2e-5)
@@ -30,7 +30,7 @@ __all__ = ["JOINT_WEAR_FIELDS", "WEAR_FIELDS", "JointWear", "WearSettings", "par
 
 WEAR_FIELDS = {
     "cycles": Field("positive", doc="cycles to predict"),
-    "max_step": Field("positive", 0.05, doc="auto: largest depth per iteration / clearance"),
+    "max_step": Field("positive", 0.01, doc="auto: largest depth per iteration / clearance"),
     "max_factor": Field("positive", None, doc="auto: most cycles per iteration"),
     "warmup": Field("nonneg", 0.0, "s", "start of each run not counted"),
     "cycle_time": Field("positive", None, "s", "length of one cycle; default: the counted run"),
@@ -76,7 +76,7 @@ class WearSettings:
     joints: Mapping[str, JointWear]
     cycles: float
     update_factor: float | None = None
-    max_step: float = 0.05
+    max_step: float = 0.01
     max_factor: float = math.inf
     warmup: float = 0.0
     cycle_time: float | None = None
