@@ -243,3 +243,31 @@ def test_bad_wear_tables_are_refused_naming_the_field(tmp_path, case):
     assert r.returncode == 2, r.stdout
     assert field in r.stderr and str(path) in r.stderr, r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_the_other_seed_mechanism_wears_too(tmp_path):
+    """The 4-SPS/CU (its spherical clearance joint SB_1) through predict_wear: 0.1 s runs,
+    2e5 cycles in fixed steps of 1e5, figures written, the socket worn along the load."""
+    from clearance.wear.predict import predict_wear
+
+    text = default_scenario_path("sps_cu").read_text()
+    text = re.sub(r"(?m)^duration = [0-9.]+", "duration = 0.1", text)
+    text += """
+[wear]
+cycles = 2e5
+update_factor = 1e5
+warmup = 0.02
+
+[wear.joints.SB_1]
+coefficient = 1e-14
+grid = 24
+"""
+    path = tmp_path / "sps.toml"
+    path.write_text(text)
+    w = predict_wear(path, out_dir=tmp_path / "out", log=None)
+    h = w.history
+    assert w.state.done and h["cycles"].values.tolist() == [0.0, 1e5, 2e5]
+    v = h["volume"].sel(joint="SB_1").values
+    assert v[0] == 0.0 and 0.0 < v[1] < v[2]
+    assert np.all(np.diff(h["effective_clearance"].sel(joint="SB_1").values) > 0)
+    assert (tmp_path / "out" / "wear_surface_SB_1.png").stat().st_size > 10_000
