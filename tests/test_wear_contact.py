@@ -230,7 +230,9 @@ def test_a_closed_form_worn_pocket_gives_the_gap_and_force_of_the_true_overlap(t
             (abs(po[0, PO_DELTA] - 2e-6), np.linalg.norm(Q[0, 0:3] - F) / np.linalg.norm(F))
         )
     gap_err = [g for g, _ in errs]
-    assert gap_err[-1] < 0.4e-6
     assert gap_err[-1] < gap_err[0] / 3
-    if theta > 0.0:  # (at the centre the reachable depth has a cusp: no gradient)
-        assert errs[-1][1] < 0.02
+    if theta == 0.0:  # a cusp of the reachable depth, which the smoothing rounds: no gradient
+        assert gap_err[-1] < 0.4e-6
+    else:
+        assert gap_err[-1] < 0.01e-6
+        assert errs[-1][1] < 0.01

@@ -108,6 +108,28 @@ def test_a_patch_smaller_than_the_cells_goes_into_one_cell():
     assert not archard_hertz(s, [1, 0, 0], 0.0, 1e-5, 0.5, 1e-13).any()
 
 
+def test_vectorised_samples_cover_a_hertz_patch_beside_a_pocket():
+    """A contact that overlaps no cell (0.3 um beyond c over a 3 um pocket 0.08 rad wide,
+    n = 64): the deposit on the cells the ball is pushed into, away from e / |e| on the
+    pocket's rim; the vectorised deposit reaches every cell the single one does (review
+    finding: a window that once missed 3 of 88 cells, 33 % off)."""
+    from clearance.wear.surface import archard_samples, overlap_patch
+
+    c, n = 3e-4, 64
+    worn = SphereWearMap(R, n)
+    u0 = np.array([0.0, 0.0, -1.0])
+    th = np.arccos(np.clip(worn.centres @ u0, -1, 1))
+    worn.depth = np.where(th < 0.08, 3e-6 * (1 - (th / 0.08) ** 2) ** 2, 0.0)
+    e = (c + 0.3e-6) * u0
+    ref = SphereWearMap(R, n)
+    cells, dh = overlap_patch(worn, e, c, 1000.0, 1e-4, 1e-14)
+    assert cells.size >= 8
+    ref.depth.reshape(-1)[cells] += dh
+    got = SphereWearMap(R, n)
+    archard_samples(got, e[None], [1000.0], [1e-4], [1.9e-3], 1e-14, worn=worn, clearance=c)
+    np.testing.assert_allclose(got.depth, ref.depth, rtol=1e-10, atol=1e-12 * ref.depth.max())
+
+
 @pytest.mark.parametrize("worn", [False, True], ids=["unworn", "worn"])
 def test_vectorised_samples_deposit_what_the_single_patches_do(worn):
     """archard_samples (chunks of samples over the cells near them) adds exactly what
@@ -136,7 +158,7 @@ def test_vectorised_samples_deposit_what_the_single_patches_do(worn):
     flat = ref.depth.reshape(-1)
     for i in range(k):
         if worn:
-            cells, dh = overlap_patch(base, e[i], c, F[i], a[i], s[i], 1e-14)
+            cells, dh = overlap_patch(base, e[i], c, F[i], s[i], 1e-14)
         else:
             cells, dh = hertz_patch(base, e[i], F[i], a[i], s[i], 1e-14)
         flat[cells] += dh

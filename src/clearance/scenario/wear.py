@@ -3,14 +3,15 @@
     [wear]
     cycles = 1e6              # cycles to predict (one cycle: the run after warmup)
     update_factor = "auto"    # cycles per iteration, or "auto": each iteration deepens a
-    max_step = 0.01           # socket by at most max_step x its clearance
+    max_step = 0.01           # socket by at most max_step x its clearance, and by at
+    max_step_penetration = 1  # most this x the run's mean penetration (default: inf)
     warmup = 0.05             # [s] the start of each run not counted (default 0)
     cycle_time = 0.4          # [s] length of one cycle (default: the counted run)
     dt_out = 2e-5             # [s] output step of the wear runs (default 2e-5)
 
     [wear.joints.S_1]         # a spherical clearance joint of [clearance.joints]
     coefficient = 1e-15       # Archard's k / H [m^2/N]; or k = ..., hardness = ... [Pa]
-    grid = 32                 # cells per cube face of the socket's depth map
+    grid = 64                 # cells per cube face of the socket's depth map
     smoothing = 2.0           # the worn gap's smoothing radius [cells]
 
 The wear coefficient has no default: it depends on the materials, the lubrication and the
@@ -31,6 +32,9 @@ __all__ = ["JOINT_WEAR_FIELDS", "WEAR_FIELDS", "JointWear", "WearSettings", "par
 WEAR_FIELDS = {
     "cycles": Field("positive", doc="cycles to predict"),
     "max_step": Field("positive", 0.01, doc="auto: largest depth per iteration / clearance"),
+    "max_step_penetration": Field(
+        "positive_inf", math.inf, doc="auto: largest depth per iteration / mean penetration"
+    ),
     "max_factor": Field("positive", None, doc="auto: most cycles per iteration"),
     "warmup": Field("nonneg", 0.0, "s", "start of each run not counted"),
     "cycle_time": Field("positive", None, "s", "length of one cycle; default: the counted run"),
@@ -43,7 +47,7 @@ JOINT_WEAR_FIELDS = {
     "coefficient": Field("positive", None, "m2 N-1", "Archard's k / H"),
     "k": Field("positive", None, "", "Archard's dimensionless wear coefficient"),
     "hardness": Field("positive", None, "Pa", "hardness H of the softer surface"),
-    "grid": Field("count", 32, doc="cells per cube face of the depth map"),
+    "grid": Field("count", 64, doc="cells per cube face of the depth map"),
     "smoothing": Field(
         "positive", 2.0, doc="smoothing radius of the worn gap [cells]", minimum=1.0
     ),
@@ -59,14 +63,15 @@ class JointWear:
     the worn gap's smoothing radius in cells (`SphereWearMap.socket_wear`)."""
 
     coefficient: float
-    grid: int = 32
+    grid: int = 64
     smoothing: float = 2.0
 
 
 @dataclass(frozen=True)
 class WearSettings:
     """The loop: total `cycles`; update_factor: cycles per iteration (None: adaptive, each
-    iteration at most `max_step` x c deeper, and at most `max_factor` cycles); warmup [s]:
+    iteration at most `max_step` x c and `max_step_penetration` x the run's force-weighted
+    mean penetration deeper, and at most `max_factor` cycles); warmup [s]:
     the start of each run not counted (the ball settling from its initial placement);
     cycle_time [s]: the length of one cycle (None: the counted part of the run is one);
     dt_out [s]: the runs' output step (the wear is summed over the output samples: on the
@@ -81,6 +86,7 @@ class WearSettings:
     warmup: float = 0.0
     cycle_time: float | None = None
     dt_out: float = 2e-5
+    max_step_penetration: float = math.inf
 
     def to_dict(self) -> dict:
         """The plain [wear] table."""
@@ -94,6 +100,8 @@ class WearSettings:
         }
         if math.isfinite(self.max_factor):
             d["max_factor"] = self.max_factor
+        if math.isfinite(self.max_step_penetration):
+            d["max_step_penetration"] = self.max_step_penetration
         if self.cycle_time is not None:
             d["cycle_time"] = self.cycle_time
         return d
@@ -159,4 +167,5 @@ def parse_wear(t: dict, spherical: tuple[str, ...], problems: Problems) -> WearS
         float(kw["warmup"]),
         None if kw.get("cycle_time") is None else float(kw["cycle_time"]),
         float(kw["dt_out"]),
+        float(kw["max_step_penetration"]),
     )

@@ -50,10 +50,11 @@ JOINT_VARS = {
     "max_depth": ("maximum wear depth", "m"),
     "effective_clearance": ("clearance plus the maximum wear depth", "m"),
     "wear_work": ("integral of F_N |v_slip| dt over one cycle", "N m"),
-    "peak_contact_force": ("peak contact force in the iteration's run", "N"),
-    "rms_contact_force": ("RMS contact force in the iteration's run", "N"),
-    "impacts": ("contact onsets in the iteration's run", "1"),
-    "max_penetration": ("maximum penetration in the iteration's run", "m"),
+    "peak_contact_force": ("peak contact force of the iteration's run after warmup", "N"),
+    "rms_contact_force": ("RMS contact force of the iteration's run after warmup", "N"),
+    "impacts": ("contact onsets of the iteration's run after warmup", "1"),
+    "max_penetration": ("largest penetration of the iteration's run after warmup", "m"),
+    "mean_penetration": ("force-weighted mean penetration in contact, after warmup", "m"),
 }
 
 
@@ -85,7 +86,11 @@ class WearLoop:
 
     def worn(self, smoothing: Mapping[str, float]) -> dict:
         """{joint: SocketWear} of the current maps (unworn joints left out)."""
-        return {j: m.socket_wear(smoothing[j]) for j, m in self.maps.items() if m.max_depth() > 0.0}
+        return {
+            j: m.socket_wear(self.clearances[j], smoothing[j])
+            for j, m in self.maps.items()
+            if m.max_depth() > 0.0
+        }
 
     def history(self):
         """The history as an xarray Dataset (dims iteration, joint, face, i, j)."""
@@ -114,7 +119,7 @@ class WearLoop:
             long_name="RMS platform position deviation from the ideal run", units="m"
         )
         for j, m in self.maps.items():
-            if self.depths:
+            if self.depths and len(self.depths) == len(self.rows):
                 ds[f"depth_history_{j}"] = (
                     ("iteration", "face", "i", "j"),
                     np.array([d[j] for d in self.depths], dtype=np.float32),
@@ -145,7 +150,7 @@ def _row(state: WearLoop, factor: float, cw: CycleWear) -> dict:
         row["max_depth"][j] = m.max_depth()
         row["effective_clearance"][j] = state.clearances[j] + m.max_depth()
         row["wear_work"][j] = cw.work[j]
-        for name in ("peak_contact_force", "rms_contact_force", "impacts", "max_penetration"):
+        for name in list(JOINT_VARS)[4:]:  # the run quantities (run_metrics)
             row[name][j] = cw.metrics[j].get(name, math.nan)
     return row
 
@@ -179,17 +184,23 @@ def run_wear_loop(
         else:
             if settings.update_factor is not None:
                 factor = min(settings.update_factor, remaining)
-            else:
-                rate = max(float(np.max(cw.increment[j])) / state.clearances[j] for j in state.maps)
+            else:  # each socket deepens by <= max_step c and max_step_penetration delta
+                rate = 0.0  # the largest fraction of its bound a socket wears per cycle
+                for j in state.maps:
+                    bound = settings.max_step * state.clearances[j]
+                    pen = cw.metrics.get(j, {}).get("mean_penetration", 0.0)
+                    if pen > 0.0:
+                        bound = min(bound, settings.max_step_penetration * pen)
+                    rate = max(rate, float(np.max(cw.increment[j])) / bound)
                 factor = min(remaining, settings.max_factor)
                 if rate > 0.0:
-                    factor = min(factor, settings.max_step / rate)
+                    factor = min(factor, 1.0 / rate)
                 if factor < min(1.0, remaining):  # one cycle at least: say max_step is exceeded
                     factor = min(1.0, remaining)
                     if log is not None:
                         log(
-                            f"[wear] one cycle deepens a socket by {rate:.3g} x its clearance, "
-                            f"more than max_step = {settings.max_step:g}: the iteration stands "
+                            f"[wear] one cycle deepens a socket by {rate:.3g} x the step "
+                            "bound (max_step, max_step_penetration): the iteration stands "
                             "for one cycle"
                         )
             state.rows.append(_row(state, factor, cw))
@@ -241,11 +252,31 @@ def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log):
             m, w = socket_wear(ds, j, k_w=js.coefficient, e_star=e_star[j], n=js.grid, worn=maps[j])
             inc[j] = per * m.depth
             work[j] = per * w
-            metrics[j] = o.summary["joints"].get(j, {})
+            metrics[j] = run_metrics(ds, j)
         dev = o.summary.get("deviation_rms", {}).get("position", math.nan)
         return CycleWear(inc, work, metrics, float(dev))
 
     return cycle
+
+
+def run_metrics(ds, joint: str) -> dict:
+    """A joint's contact over a run's samples (a dataset of `result_to_dataset`; the wear
+    loop passes those after warmup): peak and RMS contact force [N], contact onsets,
+    largest penetration and the force-weighted mean penetration in contact [m] (the
+    elastic approach: the scale the adaptive update factor keeps each iteration's wear
+    below, `WearSettings.max_step_penetration`)."""
+    k = [str(c) for c in ds["clearance"].values].index(joint)
+    f = np.abs(np.asarray(ds["contact_force"].values[:, k], dtype=float))
+    on = f > 0.0
+    pen = np.asarray(ds["penetration"].values[:, k], dtype=float) if "penetration" in ds else f * 0
+    fsum = float(f.sum())
+    return {
+        "mean_penetration": float(np.sum(f * np.clip(pen, 0, None)) / fsum) if fsum else 0.0,
+        "peak_contact_force": float(f.max()) if f.size else 0.0,
+        "rms_contact_force": float(np.sqrt(np.mean(f**2))) if f.size else 0.0,
+        "impacts": int(np.count_nonzero(on[1:] & ~on[:-1])),
+        "max_penetration": max(0.0, float(pen.max())) if pen.size else 0.0,
+    }
 
 
 class WearStateError(ValueError):

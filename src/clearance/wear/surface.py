@@ -138,18 +138,28 @@ class SphereWearMap:
         c = float(clearance)
         h = self.depth.reshape(-1)
         H = np.zeros_like(h)
-        if not (h > 0.0).any():
+        worn = np.flatnonzero(h > 0.0)
+        if worn.size == 0:
             return H.reshape(self.depth.shape)
         from scipy.spatial import cKDTree
 
+        # An unworn u has H = 0 (v = u gives c). For a worn u the unworn v give at least
+        # c / (u . v) for the nearest of them, and only v with u . v > c / (c + h_max) can
+        # go below c + h(u): so the worn cells and the nearest unworn one suffice.
         cells = self.centres.reshape(-1, 3)
-        cos_n = c / (c + float(h.max()))  # only these v can limit: u . v > c / (c + h_max)
-        chord = math.sqrt(max(0.0, 2.0 * (1.0 - cos_n))) + 1e-12
-        tree = cKDTree(cells)
-        cand = np.unique(np.concatenate(tree.query_ball_point(cells[h > 0.0], chord)))
-        for u, near in zip(cand, tree.query_ball_point(cells[cand], chord), strict=True):
-            near = np.asarray(near)
-            H[u] = float(np.min((c + h[near]) / (cells[near] @ cells[u]))) - c
+        W, hw = cells[worn], h[worn]
+        cos_n = c / (c + float(hw.max()))
+        bound = np.full(worn.size, np.inf)
+        unworn = np.flatnonzero(h <= 0.0)
+        if unworn.size:
+            d, _ = cKDTree(cells[unworn]).query(W)
+            cos_u = 1.0 - 0.5 * d * d  # chord -> cosine
+            bound = np.where(cos_u > 0.0, c / np.where(cos_u > 0.0, cos_u, 1.0), np.inf)
+        step = max(1, 4_000_000 // worn.size)
+        for i in range(0, worn.size, step):
+            cos = W[i : i + step] @ W.T
+            ratio = np.where(cos > cos_n, (c + hw) / np.where(cos > cos_n, cos, 1.0), np.inf)
+            H[worn[i : i + step]] = np.minimum(ratio.min(axis=1), bound[i : i + step]) - c
         return np.clip(H, 0.0, h).reshape(self.depth.shape)
 
     def socket_wear(self, clearance: float, smoothing: float = 2.0) -> SocketWear:
@@ -264,35 +274,48 @@ def hertz_patch(
     return near, k_w * force * slip * p / total
 
 
+def _overlap_floor(d: np.ndarray) -> np.ndarray:
+    """Per row of overlaps d (k, m): 0 where MIN_OVERLAP_CELLS or more are positive, else
+    the largest value below the MIN_OVERLAP_CELLS-th largest (so that at least that many
+    lie above it; equal values, a symmetric ring of cells, all do or all do not)."""
+    K = MIN_OVERLAP_CELLS
+    m = d.shape[1]
+    if m <= K:
+        return np.minimum(0.0, d.min(axis=1) - 1e-12)
+    top = -np.sort(-np.partition(d, m - min(m, 8 * K), axis=1)[:, m - min(m, 8 * K) :], axis=1)
+    below = top < top[:, K - 1 : K]  # strictly below the K-th largest
+    below[:, :K] = False
+    j = np.where(below.any(axis=1), np.argmax(below, axis=1), top.shape[1] - 1)
+    floor = top[np.arange(top.shape[0]), j]
+    floor = np.where(below.any(axis=1), floor, floor - 1e-12)  # (all tied: just below them)
+    return np.minimum(0.0, floor)
+
+
 def overlap_patch(
     surface: SphereWearMap,
     e: np.ndarray,
     clearance: float,
     force: float,
-    contact_radius: float,
     slip: float,
     k_w: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(flat cell indices, depth increments [m]) of Archard's law for one contact of the
     ball centred at e (socket frame) with the socket as worn in `surface`: the pressure is
-    the elastic foundation's, proportional to the overlap e . v - c - h(v) > 0 of each
-    cell (SphereWearMap.overlap), scaled so that sum(p A) = force; so the wear goes where
-    the ball presses into the worn surface (its rims, in a pocket narrower than the ball).
-    Where fewer than MIN_OVERLAP_CELLS cells overlap (a contact smaller than the grid
-    resolves), a Hertz patch (`hertz_patch`) at the deepest overlap, of radius
-    contact_radius but at least 1.5 cell widths: a patch the grid cannot resolve would put
-    the wear of that contact into one cell, a needle the ball never reaches again. The
-    volume is k_w F s either way."""
+    the elastic foundation's, proportional to the overlap d(v) = e . v - c - h(v) > 0 of
+    each cell (SphereWearMap.overlap), scaled so that sum(p A) = force; so the wear goes
+    where the ball presses into the worn surface (its seat; the rim of a pocket narrower
+    than the ball). Where fewer than MIN_OVERLAP_CELLS cells overlap (an elastic contact
+    short of the cells), the ball is taken as pushed further until that many do:
+    p ~ (d - d_K)+ with d_K the largest overlap below the MIN_OVERLAP_CELLS-th, which keeps
+    the distribution's shape and symmetry (a Hertz patch at the one deepest cell put a
+    rim's ring of equal cells' wear on one of them). The volume is k_w F s."""
     if force <= 0 or slip <= 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0)
     d = surface.overlap(e, clearance)
-    inside = np.flatnonzero(d > 0.0)
-    if inside.size >= MIN_OVERLAP_CELLS:
-        w = d[inside] * surface.areas.reshape(-1)[inside]
-        return inside, k_w * force * slip * d[inside] / float(np.sum(w))
-    centre = surface.centres.reshape(-1, 3)[int(np.argmax(d))] if surface.depth.any() else e
-    radius = max(contact_radius, 1.5 * 0.5 * math.pi / surface.n * surface.radius)
-    return hertz_patch(surface, centre, force, radius, slip, k_w)
+    tau = float(_overlap_floor(d[None, :])[0])
+    inside = np.flatnonzero(d > tau)
+    w = (d[inside] - tau) * surface.areas.reshape(-1)[inside]
+    return inside, k_w * force * slip * (d[inside] - tau) / float(np.sum(w))
 
 
 def archard_samples(
@@ -311,8 +334,9 @@ def archard_samples(
     (ball centre from the socket's centre, socket frame), force (k,) [N], slip (k,) slip
     distance [m], contact_radius (k,) Hertz radius [m]. Each sample is deposited as
     `overlap_patch` (worn given: the socket's wear during the run, same grid) or
-    `hertz_patch` at e / |e| (worn None) would deposit it; vectorised over chunks of
-    consecutive samples, each over the cells near that chunk's contact directions."""
+    `hertz_patch` at e / |e| (worn None, radius contact_radius) would deposit it;
+    vectorised over chunks of consecutive samples, each over the cells near that chunk's
+    contact directions."""
     e = np.asarray(e, float).reshape(-1, 3)
     force, slip = np.asarray(force, float), np.asarray(slip, float)
     a = np.asarray(contact_radius, float)
@@ -332,29 +356,31 @@ def archard_samples(
         el = np.linalg.norm(E, axis=1)
         n = E / el[:, None]
         mean = n.sum(axis=0)
-        mean /= np.linalg.norm(mean)
+        norm = float(np.linalg.norm(mean))
+        mean = mean / norm if norm > 1e-9 else n[0]
         dev = float(np.max(np.arccos(np.clip(n @ mean, -1.0, 1.0))))
-        a_k = a[k] if worn is None else np.maximum(a[k], 1.5 * width * R)
+        a_k = a[k]
         cap = reach = 0.0
         if worn is not None:  # the overlap lies in the unworn one's cap around e / |e|
             cap = float(np.max(np.arccos(np.clip(clearance / el, -1.0, 1.0))))
         if worn_any:  # and the deepest overlap where e . v - c >= |e| - c - h_max
             reach = math.acos(max(-1.0, 1.0 - float(h.max()) / float(el.min())))
-        ang = dev + max(cap, reach, float(np.max(a_k)) / R) + 2.0 * width
+        # the overlap lies within cap of e / |e| and the largest overlaps within reach of
+        # it (worn); a Hertz patch within a / R of e / |e| (unworn)
+        ang = dev + (max(cap, reach) if worn is not None else float(np.max(a_k)) / R)
+        ang += 4.0 * width
         local = np.flatnonzero(cells @ mean > math.cos(min(ang, math.pi)))
         C, A = cells[local], areas[local]
         fs = k_w * force[k] * slip[k]
         dep = np.zeros((k.size, local.size))
         centre = n
-        hertz = np.ones(k.size, dtype=bool)
-        if worn is not None:
+        hertz = np.ones(k.size, dtype=bool)  # (worn None: Hertz patches at e / |e|)
+        if worn is not None:  # (overlap_patch)
             D = E @ C.T - clearance - h[local]
-            W = np.where(D > 0.0, D, 0.0)
-            efm = np.count_nonzero(W, axis=1) >= MIN_OVERLAP_CELLS
-            dep[efm] = fs[efm, None] * W[efm] / (W[efm] @ A)[:, None]
-            hertz = ~efm
-            if worn_any:
-                centre = C[np.argmax(D, axis=1)]
+            tau = _overlap_floor(D)
+            W = np.clip(D - tau[:, None], 0.0, None)
+            dep = fs[:, None] * W / (W @ A)[:, None]
+            hertz[:] = False
         if hertz.any():
             cosr = np.clip(centre[hertz] @ C.T, -1.0, 1.0)
             P = np.sqrt(np.clip(1.0 - (R * np.arccos(cosr) / a_k[hertz, None]) ** 2, 0.0, None))
