@@ -1,13 +1,15 @@
-"""Wear of a spherical clearance joint's socket from a run's contact history (issue 16,
-second step: post-processing of the output samples; not yet fed back into the dynamics).
+"""Wear of a spherical clearance joint's socket from a run's contact history (issue 16:
+the output samples of one run; `clearance.wear.predict` loops over runs).
 
     from clearance.wear.history import socket_wear
     m = socket_wear(dataset, "S_1", k_w=1e-14, e_star=113.7e9, n=64)   # a SphereWearMap
     m.volume(), m.max_depth()
 
-At each output sample in contact, Archard's law with a Hertz patch
-(`clearance.wear.surface.archard_hertz`) adds k_w p |v_slip| dt to the socket's cells
-around the contact direction, in the socket (outer marker) frame. For a spherical joint
+At each output sample in contact, Archard's law adds k_w p |v_slip| dt to the socket's
+cells, in the socket (outer marker) frame: p the Hertz patch around the contact
+direction (`hertz_patch`), or, given the socket's wear during the run (`worn`), the
+elastic foundation's pressure over the ball's overlap with it (`overlap_patch`); both
+vectorised by `archard_samples`. For a spherical joint
 the contact direction is the eccentricity's, e / |e|, which the file holds in that frame.
 dt is the trapezoid weight of the sample. The slip speed is the deepest point's
 (`slip_velocity`); the pressure patch is centred on the contact point, so the slip is

@@ -6,14 +6,15 @@
 
 Each iteration runs the dynamics once with the sockets worn as they are (`Mechanism.
 with_wear`: the worn gap and its forces, contact/spherical.py), takes the wear of one
-cycle from that run (Archard with a Hertz patch, `clearance.wear.history.socket_wear`,
-over the samples after `warmup`, scaled to one `cycle_time`), multiplies it by the update
-factor N (cycles per iteration) and adds it to the depth maps. N is fixed
-(`update_factor`) or chosen so that no socket deepens by more than `max_step` x its
-clearance in one iteration (the usual choice: Mukras et al. 2010, Flores 2009; see
+cycle from that run (Archard with the elastic foundation's pressure over the ball's
+overlap with the worn socket, `clearance.wear.history.socket_wear`, over the samples after
+`warmup`, scaled to one `cycle_time`), multiplies it by the update factor N (cycles per
+iteration) and adds it to the depth maps. N is fixed (`update_factor`) or chosen so that
+no socket deepens by more than `max_step` x its clearance (and, if set,
+`max_step_penetration` x the run's mean penetration) in one iteration (the usual scheme:
 docs/notes/wear-literature.md section 5); the loop ends when `cycles` are reached, and one
 last run measures the worn mechanism. The explicit update is Euler's method in the cycle
-count: halving N halves its error, which `docs/wear.md` shows and the tests check.
+count: its error shrinks with N (first order), which `docs/wear.md` and the tests show.
 
 State after every iteration is written atomically to `wear.nc` in the output folder; a
 call with the same scenario resumes from it (`restart=True` starts again).

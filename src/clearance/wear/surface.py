@@ -1,9 +1,9 @@
 """A wear-depth map on a spherical surface (a socket, or a ball) in its body's frame.
 
-First step of issue 16 (wear): the surface grid, its exact cell areas and worn volume, and
-Archard's law spread over the grid with a Hertz pressure patch. Not yet connected to the
-dynamics (the worn gap function and the wear loop come next; docs/notes/wear-literature.md
-has the background).
+Issue 16 (wear; docs/wear.md): the surface grid, its exact cell areas and worn volume;
+Archard's law spread over the grid with a Hertz pressure patch (unworn) or the elastic
+foundation's pressure over the ball's overlap with the worn socket; the reachable depth
+and the smooth field the dynamics sees (`SphereWearMap.socket_wear`).
 
 The grid is an equiangular cubed sphere: 6 faces of n x n cells, a face's points at
 normalize(N + tan(xi) U + tan(eta) V) for xi, eta in [-pi/4, pi/4]. Unlike a
