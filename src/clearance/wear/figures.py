@@ -76,7 +76,7 @@ def wear_figures(state, out: Path, fmt: str = "png") -> list[Path]:
         save(fig, f"wear_surface_{j}")
 
     ds = state.history()
-    cyc = ds["cycles"].values + ds["update_factor"].values * 0  # cycles at each run
+    cyc = ds["cycles"].values  # cycles at each run
     fig, axs = plt.subplots(2, 2, figsize=(10, 7), layout="constrained", sharex=True)
     for j in ds["joint"].values:
         sel = ds.sel(joint=j)

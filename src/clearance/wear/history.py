@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from clearance.wear.surface import SphereWearMap, archard_samples
+from clearance.wear.surface import SphereWearMap, archard_samples, conformal_radius
 
 __all__ = ["socket_wear", "trapezoid_weights"]
 
@@ -77,8 +77,7 @@ def socket_wear(
     slip = np.linalg.norm(np.asarray(ds["slip_velocity"].values[:, j], dtype=float), axis=1)
     use = np.flatnonzero((fn > 0) & (slip > 0) & (w > 0) & (np.linalg.norm(e, axis=1) > 0))
     ds_k = slip[use] * w[use]
-    r_star = r_in * r_out / (r_out - r_in)  # Hertz's contact radius (hertz_conformal)
-    radius = (3.0 * fn[use] * r_star / (4.0 * e_star)) ** (1.0 / 3.0)
+    radius = conformal_radius(fn[use], r_in, r_out, e_star)
     archard_samples(m, e[use], fn[use], ds_k, radius, k_w, worn=worn, clearance=r_out - r_in)
     work = float(np.sum(fn[use] * ds_k))
     return m, work

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from clearance.compile.calibration import effective_modulus
 from clearance.scenario.wear import JointWear, WearSettings
 from clearance.wear.history import socket_wear
 from clearance.wear.surface import SphereWearMap
@@ -294,7 +295,7 @@ class WearRunError(RuntimeError):
 
 def _e_star(cl) -> float:
     a, b = cl.ball_material, cl.socket_material
-    return 1.0 / ((1 - a.nu**2) / a.E + (1 - b.nu**2) / b.E)
+    return effective_modulus(a.E, a.nu, b.E, b.nu)
 
 
 def _load_state(path: Path, key: str, maps: dict, clearances: dict) -> WearLoop | None:

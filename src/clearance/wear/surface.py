@@ -207,13 +207,22 @@ def hertz_conformal(
     modulus 1 / ((1 - nu1^2) / E1 + (1 - nu2^2) / E2). R* = r_inner r_outer / (r_outer -
     r_inner), a = (3 F R* / (4 E*))^(1/3), p0 = 3 F / (2 pi a^2) (Johnson, Contact
     Mechanics ch. 4; valid while a << R: docs/notes/wear-literature.md section 2)."""
+    if force <= 0:
+        conformal_radius(np.zeros(0), r_inner, r_outer, e_star)  # (checks the radii)
+        return 0.0, 0.0
+    a = float(conformal_radius(np.asarray(force, float), r_inner, r_outer, e_star))
+    return a, 3.0 * force / (2.0 * math.pi * a * a)
+
+
+def conformal_radius(
+    force: np.ndarray, r_inner: float, r_outer: float, e_star: float
+) -> np.ndarray:
+    """Hertz's contact radius a = (3 F R* / (4 E*))^(1/3) [m] of `hertz_conformal`, for an
+    array of forces > 0 [N]."""
     if not r_outer > r_inner > 0:
         raise ValueError(f"radii {r_inner}, {r_outer}: expected 0 < inner < outer")
-    if force <= 0:
-        return 0.0, 0.0
     r_star = r_inner * r_outer / (r_outer - r_inner)
-    a = (3.0 * force * r_star / (4.0 * e_star)) ** (1.0 / 3.0)
-    return a, 3.0 * force / (2.0 * math.pi * a * a)
+    return (3.0 * force * r_star / (4.0 * e_star)) ** (1.0 / 3.0)
 
 
 def archard_hertz(
