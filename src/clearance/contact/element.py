@@ -59,7 +59,7 @@ import numpy as np
 from numba import njit
 
 from clearance.contact import journal, slider, spherical
-from clearance.contact.frames import centres
+from clearance.contact.frames import centres, to_marker
 from clearance.contact.laws import elastic_energy, friction_force, normal_force
 from clearance.kinds import (
     CG_C,
@@ -76,7 +76,7 @@ from clearance.kinds import (
     FrictionLaw,
 )
 from clearance.kinematics.points import add_force
-from clearance.kinematics.rotations import add, dot, mattvec, scale, sub
+from clearance.kinematics.rotations import add, dot, scale, sub
 from clearance.layout import (
     CO_DDOT,
     CO_DELTA,
@@ -164,14 +164,7 @@ def eccentricity(model, k, bA, br, fval):
     arm_s, arm_b, _, _ = centres(model, k, bA, fval)
     Ps = add((br[s, 0], br[s, 1], br[s, 2]), arm_s)
     Pb = add((br[b, 0], br[b, 1], br[b, 2]), arm_b)
-    es = mattvec(bA[s], sub(Pb, Ps))
-    T = model.clr_T[k, 0]
-    e = (
-        T[0, 0] * es[0] + T[1, 0] * es[1] + T[2, 0] * es[2],
-        T[0, 1] * es[0] + T[1, 1] * es[1] + T[2, 1] * es[2],
-        T[0, 2] * es[0] + T[1, 2] * es[1] + T[2, 2] * es[2],
-    )
-    return e, Pb
+    return to_marker(bA[s], model.clr_T[k, 0], sub(Pb, Ps)), Pb
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)

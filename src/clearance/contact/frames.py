@@ -1,5 +1,6 @@
 """Shared geometry of the contact kinds, compiled: the centres of a clearance joint, marker
-axes in world components, point-plane contact and the gap rate of material contact points.
+axes in world components, point-plane contact, the gap rate of material contact points, and
+vectors between world and outer-marker components.
 """
 
 from __future__ import annotations
@@ -8,7 +9,7 @@ from numba import njit
 
 from clearance.kinds import CI_BB, CI_BS, CI_MVB, CI_MVS, CV_AXB, CV_AXS, CV_PB, CV_PS
 from clearance.kinematics.points import moving_point
-from clearance.kinematics.rotations import add, cross, dot, matvec, scale, sub
+from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -71,3 +72,27 @@ def gap_rate(model, k, brd, bw, n, arm_s, arm_b, us, ub):
     vQs = add(add((brd[s, 0], brd[s, 1], brd[s, 2]), cross(ws, arm_s)), us)
     vQb = add(add((brd[b, 0], brd[b, 1], brd[b, 2]), cross(wb, arm_b)), ub)
     return dot(n, sub(vQb, vQs))
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def to_marker(A, T, x):
+    """Outer-marker components T^T A^T x of the world vector x."""
+    es = mattvec(A, x)
+    return (
+        T[0, 0] * es[0] + T[1, 0] * es[1] + T[2, 0] * es[2],
+        T[0, 1] * es[0] + T[1, 1] * es[1] + T[2, 1] * es[2],
+        T[0, 2] * es[0] + T[1, 2] * es[1] + T[2, 2] * es[2],
+    )
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def to_world(A, T, x):
+    """World components A T x of the outer-marker vector x."""
+    return matvec(
+        A,
+        (
+            T[0, 0] * x[0] + T[0, 1] * x[1] + T[0, 2] * x[2],
+            T[1, 0] * x[0] + T[1, 1] * x[1] + T[1, 2] * x[2],
+            T[2, 0] * x[0] + T[2, 1] * x[1] + T[2, 2] * x[2],
+        ),
+    )

@@ -59,9 +59,9 @@ import math
 
 from numba import njit
 
-from clearance.contact.frames import centres
+from clearance.contact.frames import centres, to_marker, to_world
 from clearance.kinds import CG_C, CG_K0, CI_BB, CI_BS, CI_NW, CI_W0
-from clearance.kinematics.rotations import add, cross, dot, mattvec, matvec, scale, sub
+from clearance.kinematics.rotations import add, cross, dot, scale, sub
 
 _RS, _RB, _RHO = CG_K0, CG_K0 + 1, CG_K0 + 2  # socket, ball radii; wear smoothing radius
 
@@ -78,7 +78,7 @@ def gap(model, p, k, bA, br, fval):
     el = math.sqrt(dot(e, e))
     if model.clr_ix[k, CI_NW] == 0 or el == 0.0:
         return el - model.clr_geo[k, CG_C]
-    u = _to_marker(bA[s], model.clr_T[k, 0], scale(1.0 / el, e))
+    u = to_marker(bA[s], model.clr_T[k, 0], scale(1.0 / el, e))
     h, _, _ = worn_depth(model, k, u, (0.0, 0.0, 0.0))
     return el - model.clr_geo[k, CG_C] - h
 
@@ -109,30 +109,6 @@ def contact(model, p, k, bA, br, brd, bw, fval):
     arm_s = add(arm_s0, scale(model.clr_geo[k, _RS], n))  # socket surface point (f.1)
     arm_b = add(arm_b0, scale(model.clr_geo[k, _RB], n))  # ball surface point
     return delta, ddot, n, arm_s, arm_b, us, ub, nd, 1.0
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _to_marker(A, T, x):
-    """Outer-marker components T^T A^T x of the world vector x."""
-    es = mattvec(A, x)
-    return (
-        T[0, 0] * es[0] + T[1, 0] * es[1] + T[2, 0] * es[2],
-        T[0, 1] * es[0] + T[1, 1] * es[1] + T[2, 1] * es[2],
-        T[0, 2] * es[0] + T[1, 2] * es[1] + T[2, 2] * es[2],
-    )
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _to_world(A, T, x):
-    """World components A T x of the outer-marker vector x."""
-    return matvec(
-        A,
-        (
-            T[0, 0] * x[0] + T[0, 1] * x[1] + T[0, 2] * x[2],
-            T[1, 0] * x[0] + T[1, 1] * x[1] + T[1, 2] * x[2],
-            T[2, 0] * x[0] + T[2, 1] * x[1] + T[2, 2] * x[2],
-        ),
-    )
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -207,9 +183,9 @@ def _worn_contact(model, k, bA, brd, bw, arm_s0, arm_b0, us, ub, e, el):
     eld = dot(n, ed)
     nd = scale(1.0 / el, sub(ed, scale(eld, n)))  # rate of n = e / |e|
     rel = sub(nd, cross(ws, n))  # rate of n seen from the socket
-    h, gm, qm = worn_depth(model, k, _to_marker(A, T, n), _to_marker(A, T, rel))
-    g = _to_world(A, T, gm)
-    gd = add(_to_world(A, T, qm), cross(ws, g))  # rate of g (world)
+    h, gm, qm = worn_depth(model, k, to_marker(A, T, n), to_marker(A, T, rel))
+    g = to_world(A, T, gm)
+    gd = add(to_world(A, T, qm), cross(ws, g))  # rate of g (world)
     delta = el - model.clr_geo[k, CG_C] - h
     ddot = eld - dot(g, rel)
     gn = dot(g, n)
