@@ -166,3 +166,25 @@ def test_vectorised_samples_deposit_what_the_single_patches_do(worn):
     archard_samples(got, e, F, s, a, 1e-14, worn=base if worn else None, clearance=c, chunk=37)
     assert ref.depth.max() > 0
     np.testing.assert_allclose(got.depth, ref.depth, rtol=1e-10, atol=1e-12 * ref.depth.max())
+
+
+def test_reachable_depth_is_the_brute_force_minimum():
+    """c + H(u) = min over every cell v with u . v > 0 of (c + h(v)) / (u . v), written here
+    over all cell pairs (the package searches the worn cells and the nearest unworn one):
+    a random rough wear patch and a narrow deep pit, H <= h, H = 0 away from the wear."""
+    rng = np.random.default_rng(8)
+    c = 3e-4
+    m = SphereWearMap(R, 12)
+    u0 = np.array([0.3, -0.2, -0.93]) / np.linalg.norm([0.3, -0.2, -0.93])
+    th = np.arccos(np.clip(m.centres @ u0, -1, 1))
+    m.depth = np.where(th < 0.6, 20e-6 * rng.uniform(0, 1, size=th.shape), 0.0)
+    m.depth[np.unravel_index(np.argmin(th), th.shape)] = 80e-6  # a one-cell pit
+    cells = m.centres.reshape(-1, 3)
+    h = m.depth.reshape(-1)
+    cos = cells @ cells.T
+    ratio = np.where(cos > 0, (c + h[None, :]) / np.where(cos > 0, cos, 1.0), np.inf)
+    brute = np.clip(ratio.min(axis=1) - c, 0.0, h)
+    H = m.reachable_depth(c).reshape(-1)
+    np.testing.assert_allclose(H, brute, rtol=0, atol=1e-18)
+    assert np.all(H <= h) and H[np.argmax(h)] < 0.5 * h.max()  # the pit is out of reach
+    assert not H[th.reshape(-1) > 0.9].any()
