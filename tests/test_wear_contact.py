@@ -123,7 +123,7 @@ def test_worn_lugre_bristles_stay_in_the_worn_tangent_plane():
 
 def test_with_wear_checks_its_joint_and_value():
     m = two_bodies(cl.Spherical, cl.SphericalClearance(RJ, radial_clearance=C))
-    with pytest.raises(ModelError, match="spherical clearance joint"):
+    with pytest.raises(ModelError, match="spherical, revolute or cylindrical clearance joint"):
         m.with_wear("nope", None)
     with pytest.raises(ModelError, match="SocketWear"):
         m.with_wear("J", 1e-6)

@@ -87,7 +87,7 @@ from clearance.model.contact_laws import (
     ZhiyingQishao,
 )
 from clearance.model.functions import Polynomial, Ramp, Sinusoid, Tabulated
-from clearance.model.wear import SocketWear
+from clearance.model.wear import BearingWear, SocketWear
 from clearance.parallel import (
     Leg,
     Link,
@@ -146,6 +146,7 @@ __all__ = [
     "Clearance",
     "SphericalClearance",
     "SocketWear",
+    "BearingWear",
     "RevoluteClearance",
     "PrismaticClearance",
     "UniversalClearance",

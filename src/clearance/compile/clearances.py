@@ -59,6 +59,7 @@ from clearance.model.clearance import Clearance, PrismaticClearance, RevoluteCle
 from clearance.model.contact_laws import law_name
 from clearance.model.errors import ModelError
 from clearance.model.mechanism import Mechanism
+from clearance.model.wear import BearingWear
 
 
 @dataclass(frozen=True)
@@ -284,7 +285,17 @@ def clearance_arrays(b, mech: Mechanism) -> tuple[dict, tuple, tuple]:
         ix[[CI_KIND, CI_BS, CI_BB, CI_MVS, CI_MVB]] = (int(cl.kind), bs, bb, fs, fb)
         ix[[CI_P0, CI_NP]] = (len(prows), len(pts))
         worn = mech.wear.get(jt.name)
-        if worn is not None and worn.max_depth() > 0.0:  # (contact/spherical.py)
+        ring = {}  # station index -> (first row, rows) of a worn bearing's ring
+        if isinstance(worn, BearingWear) and worn.max_depth() > 0.0:  # (contact/journal.py)
+            first = nw
+            for j in range(worn.stations):
+                r = worn.ring_rows(j)
+                if r.shape[0]:
+                    ring[j] = (nw, r.shape[0])
+                    wear_rows.append(r)
+                    nw += r.shape[0]
+            ix[[CI_W0, CI_NW]] = (first, nw - first)
+        elif worn is not None and worn.max_depth() > 0.0:  # (contact/spherical.py)
             geo_row[CG_K0 + 2] = worn.smoothing
             ix[[CI_W0, CI_NW]] = (nw, worn.weights.size)
             wear_rows.append(worn.rows())
@@ -292,13 +303,16 @@ def clearance_arrays(b, mech: Mechanism) -> tuple[dict, tuple, tuple]:
         vec = np.zeros((4, 3))
         vec[[CV_PS, CV_PB, CV_AXS, CV_AXB]] = (ps, pb, axs, axb)
         jrows.append((ix, geo_row, vec, np.array([Ts, Tb])))
-        for pt in pts:
+        stations = [i for i, pt in enumerate(pts) if pt.kind == ContactKind.JOURNAL_STATION]
+        for i, pt in enumerate(pts):
             code, par = laws[pt.thrust]
             pix = np.zeros(NCPI, dtype=np.int64)
             pix[[PI_KIND, PI_CLR, PI_LAW, PI_FRIC]] = (int(pt.kind), k, code, fric)
             q = np.zeros(NCPG)
             q[[PG_W, PG_TOL]] = (pt.w, cl.onset_tolerance * pt.scale)
             q[PG_K0 : PG_K0 + len(pt.geo)] = pt.geo
+            if i in stations and stations.index(i) in ring:  # its ring's rows
+                q[PG_K0 + 1 : PG_K0 + 3] = ring[stations.index(i)]
             prows.append((pix, q, np.array([par, fpar], dtype=float)))
             pinfos.append(ContactPointInfo(pt.name, jt.name, ContactKind(pt.kind).name.lower()))
         inner = (r_in, r_out) if cl.kind != ClearanceKind.PRISMATIC else (geo[0], geo[0] + geo[3])

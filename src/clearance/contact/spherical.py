@@ -59,6 +59,7 @@ import math
 
 from numba import njit
 
+from clearance.contact.field import depth_field
 from clearance.contact.frames import centres, to_marker, to_world
 from clearance.kinds import CG_C, CG_K0, CI_BB, CI_BS, CI_NW, CI_W0
 from clearance.kinematics.rotations import add, cross, dot, scale, sub
@@ -79,7 +80,7 @@ def gap(model, p, k, bA, br, fval):
     if model.clr_ix[k, CI_NW] == 0 or el == 0.0:
         return el - model.clr_geo[k, CG_C]
     u = to_marker(bA[s], model.clr_T[k, 0], scale(1.0 / el, e))
-    h, _, _ = worn_depth(model, k, u, (0.0, 0.0, 0.0))
+    h, _, _ = _depth(model, k, u, (0.0, 0.0, 0.0))
     return el - model.clr_geo[k, CG_C] - h
 
 
@@ -111,60 +112,13 @@ def contact(model, p, k, bA, br, brd, bw, fval):
     return delta, ddot, n, arm_s, arm_b, us, ub, nd, 1.0
 
 
-@njit(cache=True, error_model="numpy", _nrt=False)
-def worn_depth(model, k, u, du):
+@njit(cache=True, inline="always", error_model="numpy")
+def _depth(model, k, u, du):
     """(h, g, H du) of joint k's worn socket at the direction u (outer marker frame, unit):
-    the depth h(u) [m] (module docstring), its gradient g = dh/du and the derivative of g
-    along du (the Hessian times du), all in the outer marker frame."""
-    rho = model.clr_geo[k, _RHO]
-    r2 = rho * rho
-    W = model.clr_wear
-    num = den = 0.0
-    n0 = n1 = n2 = d0 = d1 = d2 = 0.0  # gradients of the numerator and denominator
-    p0 = p1 = p2 = q0 = q1 = q2 = 0.0  # their Hessians times du
-    for i in range(model.clr_ix[k, CI_W0], model.clr_ix[k, CI_W0] + model.clr_ix[k, CI_NW]):
-        x0, x1, x2 = u[0] - W[i, 0], u[1] - W[i, 1], u[2] - W[i, 2]
-        s2 = x0 * x0 + x1 * x1 + x2 * x2
-        if s2 >= r2:
-            continue
-        sd = math.sqrt(s2)
-        om = 1.0 - sd / rho
-        phi = om * om * om * om * (4.0 * sd / rho + 1.0)
-        a = -20.0 * om * om * om / r2  # grad phi = a x
-        # Hessian of phi times du: a du + x (da/ds) (x . du) / s
-        c = (
-            60.0 * om * om / (r2 * rho * sd) * (x0 * du[0] + x1 * du[1] + x2 * du[2])
-            if sd > 0.0
-            else 0.0
-        )
-        hv0, hv1, hv2 = a * du[0] + c * x0, a * du[1] + c * x1, a * du[2] + c * x2
-        wn, wd = W[i, 3], W[i, 4]
-        num += wn * phi
-        den += wd * phi
-        n0 += wn * a * x0
-        n1 += wn * a * x1
-        n2 += wn * a * x2
-        d0 += wd * a * x0
-        d1 += wd * a * x1
-        d2 += wd * a * x2
-        p0 += wn * hv0
-        p1 += wn * hv1
-        p2 += wn * hv2
-        q0 += wd * hv0
-        q1 += wd * hv1
-        q2 += wd * hv2
-    if num <= 0.0 or den <= 0.0:
-        return 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
-    h = num / den
-    g = ((n0 - h * d0) / den, (n1 - h * d1) / den, (n2 - h * d2) / den)
-    gdu = g[0] * du[0] + g[1] * du[1] + g[2] * du[2]
-    ddu = d0 * du[0] + d1 * du[1] + d2 * du[2]
-    H = (
-        (p0 - gdu * d0 - h * q0 - g[0] * ddu) / den,
-        (p1 - gdu * d1 - h * q1 - g[1] * ddu) / den,
-        (p2 - gdu * d2 - h * q2 - g[2] * ddu) / den,
+    `depth_field` over the joint's rows with its smoothing radius."""
+    return depth_field(
+        model, model.clr_ix[k, CI_W0], model.clr_ix[k, CI_NW], model.clr_geo[k, _RHO], u, du
     )
-    return h, g, H
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -183,7 +137,7 @@ def _worn_contact(model, k, bA, brd, bw, arm_s0, arm_b0, us, ub, e, el):
     eld = dot(n, ed)
     nd = scale(1.0 / el, sub(ed, scale(eld, n)))  # rate of n = e / |e|
     rel = sub(nd, cross(ws, n))  # rate of n seen from the socket
-    h, gm, qm = worn_depth(model, k, to_marker(A, T, n), to_marker(A, T, rel))
+    h, gm, qm = _depth(model, k, to_marker(A, T, n), to_marker(A, T, rel))
     g = to_world(A, T, gm)
     gd = add(to_world(A, T, qm), cross(ws, g))  # rate of g (world)
     delta = el - model.clr_geo[k, CG_C] - h

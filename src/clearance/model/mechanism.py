@@ -289,27 +289,46 @@ class Mechanism:
 
     def with_wear(self, joint: str, wear: object) -> Mechanism:
         """A copy in which the socket of spherical clearance joint `joint` is worn as `wear`
-        (a `clearance.model.wear.SocketWear`; None: unworn again)."""
-        from clearance.model.clearance import Clearance
-        from clearance.model.wear import SocketWear
+        (a `clearance.model.wear.SocketWear`), or the bearing of a revolute or cylindrical
+        one (a `BearingWear` with one row per station); None: unworn again."""
+        from clearance.model.clearance import Clearance, RevoluteClearance
+        from clearance.model.wear import BearingWear, SocketWear
 
-        jt = self.joints.get(joint)
-        if not isinstance(getattr(jt, "clearance", None), Clearance):
-            able = [
+        def able():
+            return [
                 n
                 for n, j in self.joints.items()
-                if isinstance(getattr(j, "clearance", None), Clearance)
+                if isinstance(getattr(j, "clearance", None), (Clearance, RevoluteClearance))
             ]
+
+        jt = self.joints.get(joint)
+        cl = getattr(jt, "clearance", None)
+        if not isinstance(cl, (Clearance, RevoluteClearance)):
             raise ModelError(
                 f"Mechanism '{self.name}'",
                 "with_wear",
                 joint,
-                f"expected a spherical clearance joint; these have one: {able}",
+                "expected a spherical, revolute or cylindrical clearance joint; these have "
+                f"one: {able()}",
             )
-        if wear is not None and not isinstance(wear, SocketWear):
+        want = SocketWear if isinstance(cl, Clearance) else BearingWear
+        if wear is not None and not isinstance(wear, want):
             raise ModelError(
-                f"Mechanism '{self.name}'", f"wear.{joint}", wear, "expected a SocketWear or None"
+                f"Mechanism '{self.name}'",
+                f"wear.{joint}",
+                wear,
+                f"expected a {want.__name__} or None ({joint} is a {cl.kind.name.lower()} "
+                "clearance joint)",
             )
+        if isinstance(wear, BearingWear):
+            n = 1 if cl.model == "planar" else cl.stations
+            if wear.stations != n:
+                raise ModelError(
+                    f"Mechanism '{self.name}'",
+                    f"wear.{joint}.depths",
+                    f"{wear.stations} stations",
+                    f"expected one row per station of the joint ({n})",
+                )
         m = self.copy()
         if wear is None:
             m.wear.pop(joint, None)

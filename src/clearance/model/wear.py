@@ -1,6 +1,9 @@
-"""A worn socket as the dynamics sees it (issue 16): the smooth depth field the spherical
-contact kernel reads (`clearance.contact.spherical`), described here and packed by the
-compiler into Model.clr_wear.
+"""A worn socket or bearing as the dynamics sees it (issue 16): the smooth depth field the
+contact kernels read (`clearance.contact.field`, used by `clearance.contact.spherical` and
+`clearance.contact.journal`), described here and packed by the compiler into
+Model.clr_wear. A socket (`SocketWear`) is one field on the sphere; a bearing
+(`BearingWear`) one per station, on the circle of its cross-section (a cubic B-spline
+over the ring's equal cells, `BearingWear`).
 
     h(u) = sum_i h_i a_i phi(|u - c_i| / rho) / sum_i a_i phi(|u - c_i| / rho)
 
@@ -24,7 +27,7 @@ import numpy as np
 
 from clearance.model.errors import ModelError
 
-__all__ = ["SocketWear", "wendland_c2"]
+__all__ = ["BearingWear", "SocketWear", "wendland_c2"]
 
 
 def wendland_c2(r: np.ndarray) -> np.ndarray:
@@ -91,3 +94,74 @@ class SocketWear:
     def max_depth(self) -> float:
         """The largest sample depth [m] (h never exceeds it)."""
         return float(self.depths.max()) if self.depths.size else 0.0
+
+
+@dataclass(frozen=True, eq=False)
+class BearingWear:
+    """Worn bearing of a revolute or cylindrical clearance joint, as its contact stations
+    see it (`clearance.contact.journal`).
+
+    depths: (stations, n) [m] >= 0, per station (in the order of the joint's stations
+    along the bearing marker's h axis; one for a planar joint) the depth beyond the bearing
+    radius of n equal cells, cell i centred at theta_i = 2 pi (i + 1/2) / n about h from the
+    marker's f axis. Between them the depth is the uniform cubic B-spline smoother
+    H(theta) = sum_i H_i B(theta / dtheta - 1/2 - i), dtheta = 2 pi / n (periodic; C2, 4
+    cells wide, a profile's value shifted by H'' dtheta^2 / 6, its slope converging with
+    the grid). The depths are what the gap uses: `clearance.wear.bearing` passes the support
+    depth of the worn surface (the journal's first touch), not the raw wear depth.
+    """
+
+    depths: np.ndarray
+
+    def __post_init__(self) -> None:
+        who = "BearingWear"
+        h = np.array(self.depths, dtype=float)
+        if h.ndim == 1:
+            h = h[None, :]
+        if h.ndim != 2 or h.shape[0] < 1 or h.shape[1] < 4:
+            raise ModelError(
+                who, "depths", f"shape {np.shape(self.depths)}", "expected (stations, n >= 4)"
+            )
+        if not np.all(np.isfinite(h)) or np.any(h < 0):
+            raise ModelError(who, "depths", "(array)", "expected finite numbers >= 0 [m]")
+        h.setflags(write=False)
+        object.__setattr__(self, "depths", h)
+
+    @property
+    def stations(self) -> int:
+        return int(self.depths.shape[0])
+
+    @property
+    def angles(self) -> np.ndarray:
+        """theta_i [rad] of the n cells of each station."""
+        n = self.depths.shape[1]
+        return 2.0 * np.pi * (np.arange(n) + 0.5) / n
+
+    def ring_rows(self, station: int) -> np.ndarray:
+        """The kernel's rows (n, 5) of one station, the depth in column 0 (the rest 0);
+        (0, 5) for an unworn station (it keeps the unworn contact)."""
+        h = self.depths[station]
+        if not np.any(h > 0.0):
+            return np.zeros((0, 5))
+        rows = np.zeros((h.size, 5))
+        rows[:, 0] = h
+        return rows
+
+    def depth(self, station: int, theta) -> np.ndarray:
+        """The field H at angles theta [rad] of one station [m]."""
+        h = self.depths[station]
+        n = h.size
+        x = np.asarray(theta, dtype=float) % (2.0 * np.pi) * n / (2.0 * np.pi) - 0.5
+        i0 = np.floor(x).astype(int)
+        out = np.zeros(x.shape)
+        for j in range(-1, 3):
+            r = np.abs(x - (i0 + j))
+            b = np.where(
+                r < 1.0, 2.0 / 3.0 - r**2 + 0.5 * r**3, np.clip(2.0 - r, 0.0, None) ** 3 / 6.0
+            )
+            out += h[(i0 + j) % n] * b
+        return out
+
+    def max_depth(self) -> float:
+        """The largest cell depth [m]."""
+        return float(self.depths.max())

@@ -72,6 +72,8 @@ class SphereWearMap:
     outer: bool = True
     depth: np.ndarray = field(default=None, repr=False)  # type: ignore[assignment]
 
+    dims = ("face", "i", "j")  # of depth
+
     def __post_init__(self) -> None:
         if not (self.radius > 0 and math.isfinite(self.radius)):
             raise ValueError(f"radius = {self.radius}: expected a finite number > 0")
@@ -184,6 +186,10 @@ class SphereWearMap:
         keep = np.isfinite(dist)
         return SocketWear(c[keep], h[keep], self.solid_angle.reshape(-1)[keep], rho)
 
+    def wear_model(self, clearance: float, smoothing: float = 2.0) -> SocketWear:
+        """`socket_wear` (the wear loop's name for any map: `BearingWearMap.wear_model`)."""
+        return self.socket_wear(clearance, smoothing)
+
     def overlap(self, e: np.ndarray, clearance: float) -> np.ndarray:
         """(6 n^2,) the overlap e . v - c - h(v) [m] of the ball centred at e (socket
         frame, from the socket's centre) with each cell v (> 0: the ball is inside the
@@ -283,11 +289,10 @@ def hertz_patch(
     return near, k_w * force * slip * p / total
 
 
-def _overlap_floor(d: np.ndarray) -> np.ndarray:
-    """Per row of overlaps d (k, m): 0 where MIN_OVERLAP_CELLS or more are positive, else
-    the largest value below the MIN_OVERLAP_CELLS-th largest (so that at least that many
-    lie above it; equal values, a symmetric ring of cells, all do or all do not)."""
-    K = MIN_OVERLAP_CELLS
+def overlap_floor(d: np.ndarray, K: int = MIN_OVERLAP_CELLS) -> np.ndarray:
+    """Per row of overlaps d (k, m): 0 where K (default MIN_OVERLAP_CELLS) or more are
+    positive, else the largest value below the K-th largest (so that at least K lie above
+    it; equal values, a symmetric ring of cells, all do or all do not)."""
     m = d.shape[1]
     if m <= K:
         return np.minimum(0.0, d.min(axis=1) - 1e-12)
@@ -321,7 +326,7 @@ def overlap_patch(
     if force <= 0 or slip <= 0:
         return np.zeros(0, dtype=np.int64), np.zeros(0)
     d = surface.overlap(e, clearance)
-    tau = float(_overlap_floor(d[None, :])[0])
+    tau = float(overlap_floor(d[None, :])[0])
     inside = np.flatnonzero(d > tau)
     w = (d[inside] - tau) * surface.areas.reshape(-1)[inside]
     return inside, k_w * force * slip * (d[inside] - tau) / float(np.sum(w))
@@ -386,7 +391,7 @@ def archard_samples(
         hertz = np.ones(k.size, dtype=bool)  # (worn None: Hertz patches at e / |e|)
         if worn is not None:  # (overlap_patch)
             D = E @ C.T - clearance - h[local]
-            tau = _overlap_floor(D)
+            tau = overlap_floor(D)
             W = np.clip(D - tau[:, None], 0.0, None)
             dep = fs[:, None] * W / (W @ A)[:, None]
             hertz[:] = False
