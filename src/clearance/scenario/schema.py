@@ -1177,12 +1177,12 @@ def scenario_from_dict(d: Mapping[str, object], *, source: str = "<dict>") -> Sc
         view = parse_view(t, problems)
     wear = None
     if "wear" in d and (t := _section(d, "wear", problems)) is not None:
-        sph = tuple(
-            n
+        wearable = {
+            n: j
             for n, j in (clr.joints.items() if clr is not None else ())
-            if isinstance(j, Clearance)
-        )
-        wear = parse_wear(t, sph, problems)
+            if isinstance(j, (Clearance, RevoluteClearance))
+        }
+        wear = parse_wear(t, wearable, problems)
         if wear is not None and traj is not None and wear.warmup >= traj.duration:
             problems.add(
                 "wear.warmup",

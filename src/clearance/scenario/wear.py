@@ -9,10 +9,12 @@
     cycle_time = 0.4          # [s] length of one cycle (default: the counted run)
     dt_out = 2e-5             # [s] output step of the wear runs (default 2e-5)
 
-    [wear.joints.S_1]         # a spherical clearance joint of [clearance.joints]
+    [wear.joints.S_1]         # a spherical, revolute or cylindrical clearance joint
     coefficient = 1e-15       # Archard's k / H [m^2/N]; or k = ..., hardness = ... [Pa]
-    grid = 64                 # cells per cube face of the socket's depth map
-    smoothing = 2.0           # the worn gap's smoothing radius [cells]
+    grid = 64                 # cells per cube face of the socket's depth map (a bearing:
+                              # 4 grid cells around each station, the same resolution)
+    smoothing = 2.0           # the worn socket's smoothing radius [cells] (sockets only)
+    length = 0.02             # [m] a bearing's contact length (default: the clearance's)
 
 The wear coefficient has no default: it depends on the materials, the lubrication and the
 regime, and published values span orders of magnitude (docs/notes/wear-literature.md).
@@ -40,7 +42,9 @@ WEAR_FIELDS = {
     "cycle_time": Field("positive", None, "s", "length of one cycle; default: the counted run"),
     "dt_out": Field("positive", 2e-5, "s", "output step of the wear runs"),
     "joints": Field(
-        "table", doc="per spherical clearance joint: { coefficient | k, hardness, grid, smoothing }"
+        "table",
+        doc="per spherical, revolute or cylindrical clearance joint: { coefficient | k, "
+        "hardness, grid, smoothing, length }",
     ),
 }
 JOINT_WEAR_FIELDS = {
@@ -49,22 +53,30 @@ JOINT_WEAR_FIELDS = {
     "hardness": Field("positive", None, "Pa", "hardness H of the softer surface"),
     "grid": Field("count", 64, doc="cells per cube face of the depth map"),
     "smoothing": Field(
-        "positive", 2.0, doc="smoothing radius of the worn gap [cells]", minimum=1.0
+        "positive", 2.0, doc="smoothing radius of a worn socket's gap [cells]", minimum=1.0
+    ),
+    "length": Field(
+        "positive", None, "m", "a bearing's contact length (default: the clearance's length)"
     ),
 }
 
 
 @dataclass(frozen=True)
 class JointWear:
-    """Wear settings of one spherical clearance joint's socket.
+    """Wear settings of one clearance joint: the socket of a spherical one, the bearing of a
+    revolute or cylindrical one.
 
     coefficient: k_w = k / H [m^2/N] (Archard's dimensionless k over the softer surface's
-    hardness H); grid: cells per cube face of the depth map (6 grid^2 cells); smoothing:
-    the worn gap's smoothing radius in cells (`SphereWearMap.socket_wear`)."""
+    hardness H); grid: cells per cube face of a socket's depth map (6 grid^2 cells), and
+    4 grid cells around each station of a bearing (the same angular resolution);
+    smoothing: a worn socket's smoothing radius in cells (`SphereWearMap.socket_wear`; a
+    bearing's field is a cubic B-spline over its cells); length: a bearing's contact
+    length [m] for its cells' areas (None: the clearance's `length`)."""
 
     coefficient: float
     grid: int = 64
     smoothing: float = 2.0
+    length: float | None = None
 
 
 @dataclass(frozen=True)
@@ -96,7 +108,10 @@ class WearSettings:
             "max_step": self.max_step,
             "warmup": self.warmup,
             "dt_out": self.dt_out,
-            "joints": {k: vars(v).copy() for k, v in self.joints.items()},
+            "joints": {
+                k: {f: x for f, x in vars(v).items() if x is not None}
+                for k, v in self.joints.items()
+            },
         }
         if math.isfinite(self.max_factor):
             d["max_factor"] = self.max_factor
@@ -107,9 +122,10 @@ class WearSettings:
         return d
 
 
-def parse_wear(t: dict, spherical: tuple[str, ...], problems: Problems) -> WearSettings | None:
-    """The WearSettings of a [wear] table (spherical: the scenario's spherical clearance
-    joints), or None with the problems reported."""
+def parse_wear(t: dict, wearable: Mapping, problems: Problems) -> WearSettings | None:
+    """The WearSettings of a [wear] table (wearable: the scenario's clearance joints that
+    can wear, name -> clearance: spherical, revolute and cylindrical ones), or None with
+    the problems reported."""
     n0 = len(problems)
     kw = parse_table(t, WEAR_FIELDS, "wear", problems, extra=("update_factor",))
     uf = t.get("update_factor", "auto")
@@ -124,12 +140,12 @@ def parse_wear(t: dict, spherical: tuple[str, ...], problems: Problems) -> WearS
             problems.add("wear.joints", tb, "expected at least one joint")
         for name, body in tb.items():
             path = f"wear.joints.{name}"
-            if name not in spherical:
+            if name not in wearable:
                 problems.add(
                     path,
                     name,
-                    "expected a spherical clearance joint of [clearance.joints]: "
-                    + (", ".join(spherical) or "(none)"),
+                    "expected a spherical, revolute or cylindrical clearance joint of "
+                    "[clearance.joints]: " + (", ".join(wearable) or "(none)"),
                 )
                 continue
             if (b := table_at(body, path, problems)) is None:
@@ -155,7 +171,21 @@ def parse_wear(t: dict, spherical: tuple[str, ...], problems: Problems) -> WearS
             if v["grid"] > 512:
                 problems.add(f"{path}.grid", v["grid"], "expected an integer from 1 to 512")
                 continue
-            joints[name] = JointWear(float(coef), int(v["grid"]), float(v["smoothing"]))
+            bearing = hasattr(wearable[name], "journal_radius")
+            length = v.get("length")
+            if bearing and length is None and getattr(wearable[name], "length", None) is None:
+                problems.add(
+                    f"{path}.length",
+                    "(missing)",
+                    "expected the bearing's contact length [m] (the clearance has no length)",
+                )
+                continue
+            joints[name] = JointWear(
+                float(coef),
+                int(v["grid"]),
+                float(v["smoothing"]),
+                None if length is None else float(length),
+            )
     if len(problems) > n0:
         return None
     return WearSettings(

@@ -18,8 +18,9 @@ narrower than the journal (it rests on the pocket's rims, and the kernel's minim
 distance to the rim c + H is the distance to S: smooth, with no jump between the rims).
 
 Archard's law per station and output sample (`ring_archard`): the pressure is the elastic
-foundation's, proportional to the overlap d_i = e . u_i - c - h_i > 0 of the journal
-(offset e in the station's section) with the worn surface as it was during the run, scaled
+foundation's, proportional to the overlap d_i = R_J - |X_i - e| > 0 of the journal (centre
+offset e in the station's section, the cells' worn surface points X_i = (R + h_i) u_i; about
+e . u_i - c - h_i) with the worn surface as it was during the run, scaled
 so that sum(p A) equals the station's normal force; where fewer than MIN_RING_CELLS cells
 overlap, the journal is taken as pushed further until that many do (the same rule as the
 socket's, `clearance.wear.surface.overlap_patch`). The depth added is k_w p |v_slip| dt,
@@ -93,6 +94,10 @@ class BearingWearMap:
     def max_depth(self) -> float:
         return float(self.depth.max())
 
+    def empty(self) -> BearingWearMap:
+        """An unworn map of the same bearing and grid."""
+        return BearingWearMap(self.radius, self.length, self.stations, self.n)
+
     def support_depth(self, clearance: float) -> np.ndarray:
         """H (stations, n) [m] >= 0: per station, the support function of the reachable
         set S = {x : x . u_i <= c + h_i} at the cells' directions, less c (module
@@ -121,9 +126,13 @@ class BearingWearMap:
     wear_model = bearing_wear  # the loop's common name (SphereWearMap.wear_model)
 
     def overlap(self, station: int, e: np.ndarray, clearance: float) -> np.ndarray:
-        """d (k, n) = e . u_i - c - h_i of journal offsets e (k, 2) at one station."""
+        """d (k, n) = R_J - |X_i - e|: how far the cells' worn surface points X_i = (R + h_i)
+        u_i lie inside the journal circle (radius R_J = R - c, centre e (k, 2)) at one
+        station; the exact circle geometry of the contact kernel (about e . u_i - c - h_i
+        for a small clearance)."""
         e = np.atleast_2d(np.asarray(e, dtype=float))
-        return e @ self.directions.T - clearance - self.depth[station]
+        X = (self.radius + self.depth[station])[:, None] * self.directions
+        return (self.radius - clearance) - np.linalg.norm(X[None, :, :] - e[:, None, :], axis=2)
 
 
 def ring_archard(
@@ -163,13 +172,15 @@ def bearing_history(
     keep: np.ndarray | None = None,
     surface: BearingWearMap | None = None,
     worn: BearingWearMap | None = None,
+    length: float | None = None,
 ) -> tuple[BearingWearMap, float]:
     """(wear map of the bearing of revolute or cylindrical clearance joint `joint`, the
     integral of F_N |v_slip| dt over its stations [N m]) from a run's Result over the
     samples `keep` (default: all): per station, the journal axis' offset in the station's
     section (the joint's eccentricity, and the journal axis in the bearing marker frame
     from the bodies' rotations), the station's normal force and slip (`ring_archard`).
-    surface: a map to add to; worn: the bearing as worn during the run."""
+    surface: a map to add to (default: a new one of n cells per station, over `length` or
+    the clearance's length); worn: the bearing as worn during the run."""
     from clearance.kinds import PG_K0, PI_KIND, ContactKind
     from clearance.model.bodies import GROUND
     from clearance.wear.history import trapezoid_weights
@@ -192,11 +203,15 @@ def bearing_history(
         if result.contact_point_joints[p] == joint
         and model.cp_ix[p, PI_KIND] == int(ContactKind.JOURNAL_STATION)
     ]
-    cl = comp.mechanism.joints[joint].clearance
-    length = cl.length if cl.length is not None else None
-    if length is None:
-        raise ValueError(f"{joint}: bearing wear needs the bearing length (clearance length)")
-    m = surface if surface is not None else BearingWearMap(info.socket_radius, length, len(pts), n)
+    if surface is None:
+        length = length if length is not None else comp.mechanism.joints[joint].clearance.length
+        if length is None:
+            raise ValueError(
+                f"{joint}: bearing wear needs the bearing's contact length (its clearance has "
+                "none: pass length)"
+            )
+        surface = BearingWearMap(info.socket_radius, length, len(pts), n)
+    m = surface
     if m.stations != len(pts):
         raise ValueError(f"the map has {m.stations} stations, {joint} {len(pts)}")
     keep = np.arange(result.t.size) if keep is None else np.asarray(keep)

@@ -1,13 +1,16 @@
 """Figures of a wear prediction (`clearance.wear.predict`): per socket the depth map
-unwrapped (longitude and latitude in the socket's marker frame) and drawn on the sphere,
-and the history against cycles (worn volume, maximum depth and effective clearance, peak
-contact force, platform deviation)."""
+unwrapped (longitude and latitude in the socket's marker frame) and drawn on the sphere;
+per bearing the map unwrapped (angle against axial position) and the worn profile of
+each station; and the history against cycles (worn volume, maximum depth and effective
+clearance, peak contact force, platform deviation)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
+
+from clearance.wear.bearing import BearingWearMap
 
 __all__ = ["wear_figures"]
 
@@ -18,6 +21,40 @@ def _lonlat(nlon: int, nlat: int):
     LON, LAT = np.meshgrid(lon, lat)
     u = np.stack([np.cos(LAT) * np.cos(LON), np.cos(LAT) * np.sin(LON), np.sin(LAT)], axis=-1)
     return lon, lat, u
+
+
+def _bearing_figures(plt, j: str, m: BearingWearMap, cycles: float):
+    """A bearing's map unwrapped (angle about the bearing axis against the stations'
+    axial positions) and its worn profile per station (polar, the depth exaggerated)."""
+    z = (np.arange(m.stations) + 0.5) / m.stations * m.length - 0.5 * m.length
+    h = m.depth * 1e6
+    fig, ax = plt.subplots(figsize=(8, 3.6), layout="constrained")
+    edges_th = np.linspace(0.0, 360.0, m.n + 1)
+    edges_z = np.linspace(-0.5, 0.5, m.stations + 1) * m.length * 1e3
+    im = ax.pcolormesh(edges_th, edges_z, h, cmap="magma_r", shading="flat")
+    ax.set(
+        xlabel="angle about the bearing axis from its f axis [deg]",
+        ylabel="axial position [mm]",
+        title=f"{j}: bearing wear depth after {cycles:.4g} cycles",
+    )
+    fig.colorbar(im, ax=ax, label="depth [um]")
+    yield fig, f"wear_map_{j}"
+    fig = plt.figure(figsize=(5.5, 5), layout="constrained")
+    ax = fig.add_subplot(projection="polar")
+    top = max(float(h.max()), 1e-300)
+    closed = np.r_[m.angles, m.angles[:1]]
+    for k in range(m.stations):
+        r = np.r_[h[k], h[k, :1]]
+        ax.plot(closed, 1.0 + 0.5 * r / top, label=f"z = {z[k] * 1e3:.3g} mm")
+    ax.plot(closed, np.ones_like(closed), "k:", lw=0.8, label="unworn")
+    ax.set_rticks([])
+    ax.set_title(
+        f"{j}: worn bearing profile per station\n(radius 1: unworn; the deepest, "
+        f"{top:.3g} um, drawn as 0.5)"
+    )
+    if m.stations <= 8:
+        ax.legend(fontsize=7, loc="lower left", bbox_to_anchor=(-0.15, -0.12))
+    yield fig, f"wear_surface_{j}"
 
 
 def wear_figures(state, out: Path, fmt: str = "png") -> list[Path]:
@@ -39,6 +76,10 @@ def wear_figures(state, out: Path, fmt: str = "png") -> list[Path]:
         files.append(path)
 
     for j, m in state.maps.items():
+        if isinstance(m, BearingWearMap):
+            for fig, name in _bearing_figures(plt, j, m, state.cycles):
+                save(fig, name)
+            continue
         lon, lat, u = _lonlat(361, 181)
         h = m.depth_at(u) * 1e6
         fig, ax = plt.subplots(figsize=(8, 4.2), layout="constrained")

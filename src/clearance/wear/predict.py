@@ -32,6 +32,7 @@ import numpy as np
 
 from clearance.compile.calibration import effective_modulus
 from clearance.scenario.wear import JointWear, WearSettings
+from clearance.wear.bearing import BearingWearMap, bearing_history
 from clearance.wear.history import socket_wear
 from clearance.wear.surface import SphereWearMap
 
@@ -76,7 +77,7 @@ class CycleWear:
 class WearLoop:
     """The loop's state: the maps, and one history row per iteration."""
 
-    maps: dict  # joint -> SphereWearMap
+    maps: dict  # joint -> SphereWearMap (socket) or BearingWearMap (bearing)
     clearances: dict  # joint -> c [m]
     rows: list = field(default_factory=list)
     done: bool = False
@@ -89,7 +90,7 @@ class WearLoop:
     def worn(self, smoothing: Mapping[str, float]) -> dict:
         """{joint: SocketWear} of the current maps (unworn joints left out)."""
         return {
-            j: m.socket_wear(self.clearances[j], smoothing[j])
+            j: m.wear_model(self.clearances[j], smoothing[j])
             for j, m in self.maps.items()
             if m.max_depth() > 0.0
         }
@@ -123,23 +124,40 @@ class WearLoop:
         for j, m in self.maps.items():
             if self.depths and len(self.depths) == len(self.rows):
                 ds[f"depth_history_{j}"] = (
-                    ("iteration", "face", "i", "j"),
+                    ("iteration", *_dims(m, j)),
                     np.array([d[j] for d in self.depths], dtype=np.float32),
                 )
                 ds[f"depth_history_{j}"].attrs.update(
                     long_name=f"wear depth of the socket of {j} in each iteration's run",
                     units="m",
                 )
-            ds[f"depth_{j}"] = (("face", "i", "j"), m.depth)
-            ds[f"depth_{j}"].attrs.update(
-                long_name=f"wear depth of the socket of {j} (socket marker frame)",
-                units="m",
-                radius=m.radius,
-                grid="equiangular cubed sphere (clearance.wear.surface)",
-            )
+            ds[f"depth_{j}"] = (_dims(m, j), m.depth)
+            ds[f"depth_{j}"].attrs.update(_map_attrs(m, j))
         ds.attrs["done"] = int(self.done)
         ds.attrs["clearances"] = json.dumps(self.clearances)
         return ds
+
+
+def _dims(m, j: str) -> tuple:
+    """A map's dimension names in the history, per joint (grids may differ)."""
+    return tuple(f"{d}_{j}" for d in m.dims)
+
+
+def _map_attrs(m, j: str) -> dict:
+    if isinstance(m, BearingWearMap):
+        return dict(
+            long_name=f"wear depth of the bearing of {j} (bearing marker frame)",
+            units="m",
+            radius=m.radius,
+            length=m.length,
+            grid="per station, equal cells of the angle about h from f (clearance.wear.bearing)",
+        )
+    return dict(
+        long_name=f"wear depth of the socket of {j} (socket marker frame)",
+        units="m",
+        radius=m.radius,
+        grid="equiangular cubed sphere (clearance.wear.surface)",
+    )
 
 
 def _row(state: WearLoop, factor: float, cw: CycleWear) -> dict:
@@ -251,7 +269,14 @@ def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log):
         per = (settings.cycle_time or counted) / counted
         inc, work, metrics = {}, {}, {}
         for j, js in settings.joints.items():
-            m, w = socket_wear(ds, j, k_w=js.coefficient, e_star=e_star[j], n=js.grid, worn=maps[j])
+            if isinstance(maps[j], BearingWearMap):
+                m, w = bearing_history(
+                    r, j, k_w=js.coefficient, keep=keep, surface=maps[j].empty(), worn=maps[j]
+                )
+            else:
+                m, w = socket_wear(
+                    ds, j, k_w=js.coefficient, e_star=e_star[j], n=js.grid, worn=maps[j]
+                )
             inc[j] = per * m.depth
             work[j] = per * w
             metrics[j] = run_metrics(ds, j)
@@ -294,7 +319,10 @@ class WearRunError(RuntimeError):
 
 
 def _e_star(cl) -> float:
-    a, b = cl.ball_material, cl.socket_material
+    if hasattr(cl, "journal_radius"):  # RevoluteClearance
+        a, b = cl.journal_material, cl.bearing_material
+    else:
+        a, b = cl.ball_material, cl.socket_material
     return effective_modulus(a.E, a.nu, b.E, b.nu)
 
 
@@ -333,6 +361,17 @@ def _load_state(path: Path, key: str, maps: dict, clearances: dict) -> WearLoop 
     return st
 
 
+def _new_map(cl, js: JointWear):
+    """The unworn depth map of a joint's wearing part: the socket of a spherical clearance
+    joint (grid cells per cube face), the bearing of a revolute or cylindrical one (4 grid
+    cells around each station: the socket's angular resolution)."""
+    if hasattr(cl, "journal_radius"):  # RevoluteClearance
+        stations = 1 if cl.model == "planar" else cl.stations
+        length = js.length if js.length is not None else cl.length
+        return BearingWearMap(cl.bearing_radius, float(length), stations, 4 * js.grid)
+    return SphereWearMap(cl.ball_radius + cl.c, js.grid)
+
+
 @dataclass
 class WearPrediction:
     """What `predict_wear` produced: the loop state, its history and the files."""
@@ -369,10 +408,7 @@ def predict_wear(
     path = out / "wear.nc"
     key = json.dumps(scenario_to_dict(s), sort_keys=True, default=str)
     joints = s.clearance.joints
-    maps = {
-        j: SphereWearMap(joints[j].ball_radius + joints[j].c, js.grid)
-        for j, js in settings.joints.items()
-    }
+    maps = {j: _new_map(joints[j], js) for j, js in settings.joints.items()}
     clearances = {j: float(joints[j].c) for j in settings.joints}
     state = None if restart else _load_state(path, key, maps, clearances)
     if state is not None and log is not None:
