@@ -407,8 +407,9 @@ def bearing_run():
 
 def test_bearing_wear_volume_balances_the_kernels_friction_work(bearing_run):
     """The integral of F_N |v_slip| dt over the output samples of every station equals the
-    friction work the kernel integrates at every step divided by mu, and the worn volume is
-    k_w times it; the wear sits below the pivot, where the journal hangs."""
+    friction work the kernel integrates at every step divided by mu (the independent
+    account); the worn volume is k_w times it (bookkeeping: ring_archard scales the
+    pressure so); the wear sits below the pivot, where the journal hangs."""
     r = bearing_run
     assert r.success
     k_w = 1e-14
@@ -569,3 +570,78 @@ def test_a_bearing_without_a_length_is_refused_naming_the_field(tmp_path):
         load_scenario(path)
     msg = str(err.value)
     assert "wear.joints.wrist.length" in msg and str(path) in msg and "contact length" in msg
+
+
+def test_station_sections_see_the_kernels_penetration_of_a_tilted_journal():
+    """A rod hung by a spatial revolute clearance joint (4 stations) in a rotated marker
+    frame, its mass centre 5 cm along the axis: the journal tilts (about 0.01 rad) and the
+    end stations carry the load. At every sample and station, the deepest overlap of the
+    unworn bearing's cells with the journal, taken from `station_sections` (the joint's
+    eccentricity and the bodies' rotations, computed here outside the kernel), equals the
+    kernel's penetration of that station: frames, axial coordinates and tilt agree (review
+    finding: the in-plane overlap missed R_J theta^2 / 2, 0.8 um here)."""
+    from clearance.wear.bearing import station_sections
+
+    Ts = Rotation.from_rotvec([0.4, -0.3, 2.5]).as_matrix()
+    h = Ts[:, 2]
+    clr = cl.RevoluteClearance(
+        RJ, radial_clearance=C, model="spatial", length=LB, stations=4, normal=HERTZ
+    )
+    m = cl.Mechanism("tilted pendulum", gravity=(0, -9.81, 0))
+    m.add(
+        cl.Body(
+            "rod",
+            0.6,
+            (0.008, 0.0005, 0.008),
+            position=tuple(np.array([0.0, -0.2, 0.0]) + 0.05 * h),
+            angular_velocity=tuple(6.0 * h),
+        ),
+        cl.Marker("g", "ground", (0, 0, 0), Ts),
+        cl.Marker("r", "rod", tuple(np.array([0.0, 0.2, 0.0]) - 0.05 * h), Ts),
+        cl.Revolute("J", "g", "r", clearance=clr),
+    )
+    r = cl.simulate(m, 0.05, dt_out=5e-4)
+    assert r.success
+    names, sig, ek, axis = station_sections(r, "J")
+    assert np.allclose(sig, LB * (-0.5 + (np.arange(4) + 0.5) / 4))
+    tilt = np.arccos(np.clip(np.abs(axis[:, 2]), 0, 1))
+    assert tilt.max() > 5e-3
+    bm = BearingWearMap(RJ + C, LB, 4, 2048)
+    checked = 0
+    for j, name in enumerate(names):
+        pen = np.asarray(r.channel("point_penetration", name))
+        on = pen > 0
+        d = bm.overlap(j, ek[j, on], C, axis[on]).max(axis=1)
+        # (the cells sample the rim: 2.6e-10 m at 2048 cells, 1.6e-11 at 8192, 1.2e-12 at
+        # 32768; the tilt's term alone is 8e-7 m)
+        np.testing.assert_allclose(d, pen[on], rtol=0, atol=5e-10)
+        checked += int(on.sum())
+    assert checked > 50
+
+
+@pytest.mark.parametrize(
+    "text, field",
+    [
+        ("length = 0.02\n", "wear.joints.wrist.length"),  # the planar one needs it: fine
+        ("length = 0.02\nsmoothing = 3.0\n", "wear.joints.wrist.smoothing"),
+    ],
+)
+def test_wear_table_fields_a_bearing_cannot_use_are_refused(tmp_path, text, field):
+    """A bearing's [wear.joints] table: `smoothing` is the socket's (refused), `length`
+    only where the clearance has none (a planar joint); on a spatial joint with its own
+    length, `length` is refused (the stations and the wear share one)."""
+    from clearance.scenario import load_scenario
+    from clearance.scenario.errors import ScenarioError
+    from clearance.scenario.toml_io import library_path
+
+    base = library_path("slider_crank").read_text()
+    wear = SLIDER_CRANK_WEAR.replace("length = 0.02\n", text)
+    path = tmp_path / "sc.toml"
+    path.write_text(base + wear)
+    if field.endswith("length"):  # a planar joint: accepted; a spatial one with length: refused
+        load_scenario(path)
+        spatial = base.replace('model = "planar"', 'model = "spatial"\nlength = 0.02')
+        path.write_text(spatial + wear)
+    with pytest.raises(ScenarioError) as err:
+        load_scenario(path)
+    assert field in str(err.value) and "expected none" in str(err.value)

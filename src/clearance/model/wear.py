@@ -106,9 +106,12 @@ class BearingWear:
     radius of n equal cells, cell i centred at theta_i = 2 pi (i + 1/2) / n about h from the
     marker's f axis. Between them the depth is the uniform cubic B-spline smoother
     H(theta) = sum_i H_i B(theta / dtheta - 1/2 - i), dtheta = 2 pi / n (periodic; C2, 4
-    cells wide, a profile's value shifted by H'' dtheta^2 / 6, its slope converging with
-    the grid). The depths are what the gap uses: `clearance.wear.bearing` passes the support
-    depth of the worn surface (the journal's first touch), not the raw wear depth.
+    cells wide, a profile's value shifted by H'' dtheta^2 / 6 and its slope by
+    H''' dtheta^2 / 6). The depths are what the gap uses: `clearance.wear.bearing` passes
+    the support depth of the worn surface (`BearingWearMap.bearing_wear`), whose reachable
+    set is convex, so that the kernel's Newton iteration on the rim finds the global
+    minimum of the distance; with other depths (a raw pocket narrower than the journal) it
+    may stop at a rim's local minimum.
     """
 
     depths: np.ndarray

@@ -173,7 +173,26 @@ def parse_wear(t: dict, wearable: Mapping, problems: Problems) -> WearSettings |
                 continue
             bearing = hasattr(wearable[name], "journal_radius")
             length = v.get("length")
-            if bearing and length is None and getattr(wearable[name], "length", None) is None:
+            own = getattr(wearable[name], "length", None) if bearing else None
+            if not bearing and "length" in b:
+                problems.add(f"{path}.length", b["length"], "expected none: only bearings have one")
+                continue
+            if bearing and "smoothing" in b:
+                problems.add(
+                    f"{path}.smoothing",
+                    b["smoothing"],
+                    "expected none: a bearing's worn surface is a cubic B-spline over its cells",
+                )
+                continue
+            if bearing and length is not None and own is not None:
+                problems.add(
+                    f"{path}.length",
+                    length,
+                    f"expected none: the clearance has its length ({own:g} m), which the "
+                    "stations and the wear share",
+                )
+                continue
+            if bearing and length is None and own is None:
                 problems.add(
                     f"{path}.length",
                     "(missing)",

@@ -18,9 +18,10 @@ narrower than the journal (it rests on the pocket's rims, and the kernel's minim
 distance to the rim c + H is the distance to S: smooth, with no jump between the rims).
 
 Archard's law per station and output sample (`ring_archard`): the pressure is the elastic
-foundation's, proportional to the overlap d_i = R_J - |X_i - e| > 0 of the journal (centre
-offset e in the station's section, the cells' worn surface points X_i = (R + h_i) u_i; about
-e . u_i - c - h_i) with the worn surface as it was during the run, scaled
+foundation's, proportional to the overlap d_i = R_J - D_i > 0 of the journal (D_i: the
+distance of the cell's worn surface point X_i = (R + h_i) u_i from the journal axis, which
+meets the station's plane at e; about e . u_i - c - h_i) with the worn surface as it was
+during the run, scaled
 so that sum(p A) equals the station's normal force; where fewer than MIN_RING_CELLS cells
 overlap, the journal is taken as pushed further until that many do (the same rule as the
 socket's, `clearance.wear.surface.overlap_patch`). The depth added is k_w p |v_slip| dt,
@@ -37,7 +38,13 @@ import numpy as np
 from clearance.model.wear import BearingWear
 from clearance.wear.surface import overlap_floor
 
-__all__ = ["MIN_RING_CELLS", "BearingWearMap", "bearing_history", "ring_archard"]
+__all__ = [
+    "MIN_RING_CELLS",
+    "BearingWearMap",
+    "bearing_history",
+    "ring_archard",
+    "station_sections",
+]
 
 #: fewest cells of a station's ring in the overlap (`ring_archard`)
 MIN_RING_CELLS = 3
@@ -125,14 +132,23 @@ class BearingWearMap:
 
     wear_model = bearing_wear  # the loop's common name (SphereWearMap.wear_model)
 
-    def overlap(self, station: int, e: np.ndarray, clearance: float) -> np.ndarray:
-        """d (k, n) = R_J - |X_i - e|: how far the cells' worn surface points X_i = (R + h_i)
-        u_i lie inside the journal circle (radius R_J = R - c, centre e (k, 2)) at one
-        station; the exact circle geometry of the contact kernel (about e . u_i - c - h_i
-        for a small clearance)."""
+    def overlap(
+        self, station: int, e: np.ndarray, clearance: float, axis: np.ndarray | None = None
+    ) -> np.ndarray:
+        """d (k, n) = R_J - D_i: how far the cells' worn surface points X_i = (R + h_i) u_i
+        of one station lie inside the journal (radius R_J = R - c), D_i their distance from
+        its axis: the line through e (k, 2), the axis' point in the station's plane, along
+        the unit `axis` (k, 3) in the bearing marker frame (None: along h, an aligned
+        journal: D_i = |X_i - e|). The contact kernel's geometry; about e . u_i - c - h_i for
+        a small clearance and tilt."""
         e = np.atleast_2d(np.asarray(e, dtype=float))
         X = (self.radius + self.depth[station])[:, None] * self.directions
-        return (self.radius - clearance) - np.linalg.norm(X[None, :, :] - e[:, None, :], axis=2)
+        w = X[None, :, :] - e[:, None, :2]  # (k, n, 2), in the station's plane
+        d2 = np.sum(w * w, axis=2)
+        if axis is not None:
+            a = np.atleast_2d(np.asarray(axis, dtype=float))
+            d2 = d2 - np.einsum("knj,kj->kn", w, a[:, :2]) ** 2
+        return (self.radius - clearance) - np.sqrt(np.clip(d2, 0.0, None))
 
 
 def ring_archard(
@@ -145,22 +161,71 @@ def ring_archard(
     clearance: float,
     *,
     worn: BearingWearMap | None = None,
+    axis: np.ndarray | None = None,
 ) -> None:
     """Add Archard's wear of samples (journal offsets e (k, 2) in the station's section,
     normal forces (k,) [N], slip distances |v_slip| dt (k,) [m]) to one station of
     `surface` (module docstring); the overlap is taken with `worn` (the bearing as it was
-    during the run; default: `surface` itself)."""
+    during the run; default: `surface` itself) and the journal axes `axis` (k, 3) (None:
+    aligned; `BearingWearMap.overlap`)."""
     worn = surface if worn is None else worn
     force = np.asarray(force, dtype=float)
     slip = np.asarray(slip, dtype=float)
     use = np.flatnonzero((force > 0) & (slip > 0))
     for lo in range(0, use.size, 4096):
         idx = use[lo : lo + 4096]
-        d = worn.overlap(station, np.asarray(e, dtype=float)[idx], clearance)
+        ax = None if axis is None else np.asarray(axis, dtype=float)[idx]
+        d = worn.overlap(station, np.asarray(e, dtype=float)[idx], clearance, ax)
         tau = overlap_floor(d, MIN_RING_CELLS)
         p = np.clip(d - tau[:, None], 0.0, None)
         scale = k_w * force[idx] * slip[idx] / (np.sum(p, axis=1) * surface.cell_area)
         surface.depth[station] += scale @ p
+
+
+def station_sections(result, joint: str, keep: np.ndarray | None = None):
+    """The journal in each station's section of revolute or cylindrical clearance joint
+    `joint` over a Result's samples `keep` (default: all): (contact point names, their
+    axial coordinates sigma, offsets e (stations, k, 2) of the journal axis' point in each
+    station's plane, the journal axis (k, 3)), in the bearing marker frame: from the joint's
+    eccentricity (P_b - P_s) and the journal axis turned by the bodies' rotations. Samples
+    where the journal axis lies in a station's plane (no section) have e = nan."""
+    from clearance.kinds import PG_K0, PI_KIND, ContactKind
+    from clearance.model.bodies import GROUND
+
+    comp = result.compiled
+    names = [ci.name for ci in comp.clearances]
+    if joint not in names:
+        raise ValueError(f"no clearance joint {joint!r}; the run has {', '.join(names)}")
+    k = names.index(joint)
+    info = comp.clearances[k]
+    if info.kind not in ("revolute", "cylindrical"):
+        raise ValueError(
+            f"{joint} is a {info.kind} clearance joint; bearing wear is for revolute and "
+            "cylindrical ones"
+        )
+    model = comp.model
+    pts = [
+        p
+        for p in range(len(result.contact_point_names))
+        if result.contact_point_joints[p] == joint
+        and model.cp_ix[p, PI_KIND] == int(ContactKind.JOURNAL_STATION)
+    ]
+    keep = np.arange(result.t.size) if keep is None else np.asarray(keep)
+
+    def frame(body, T):  # (k, 3, 3) marker triad in the world
+        if body == GROUND:
+            return np.broadcast_to(T, (keep.size, 3, 3))
+        return result.rotation(body)[keep] @ T
+
+    Rs = frame(info.socket_body, model.clr_T[k, 0])
+    hb = frame(info.ball_body, model.clr_T[k, 1])[:, :, 2]
+    h = np.einsum("kji,kj->ki", Rs, hb)  # journal axis in the bearing marker frame
+    e = np.asarray(result.eccentricity(joint), dtype=float)[keep]
+    sig = np.array([float(model.cp_geo[p, PG_K0]) for p in pts])
+    hz = np.where(np.abs(h[:, 2]) > 1e-9, h[:, 2], np.nan)
+    lam = (sig[:, None] - e[None, :, 2]) / hz[None, :]
+    ek = e[None, :, :2] + lam[:, :, None] * h[None, :, :2]
+    return [result.contact_point_names[p] for p in pts], sig, ek, h
 
 
 def bearing_history(
@@ -181,30 +246,13 @@ def bearing_history(
     from the bodies' rotations), the station's normal force and slip (`ring_archard`).
     surface: a map to add to (default: a new one of n cells per station, over `length` or
     the clearance's length); worn: the bearing as worn during the run."""
-    from clearance.kinds import PG_K0, PI_KIND, ContactKind
-    from clearance.model.bodies import GROUND
     from clearance.wear.history import trapezoid_weights
 
-    comp = result.compiled
-    names = [ci.name for ci in comp.clearances]
-    if joint not in names:
-        raise ValueError(f"no clearance joint {joint!r}; the run has {', '.join(names)}")
-    k = names.index(joint)
-    info = comp.clearances[k]
-    if info.kind not in ("revolute", "cylindrical"):
-        raise ValueError(
-            f"{joint} is a {info.kind} clearance joint; bearing wear is for revolute and "
-            "cylindrical ones"
-        )
-    model = comp.model
-    pts = [
-        p
-        for p, name in enumerate(result.contact_point_names)
-        if result.contact_point_joints[p] == joint
-        and model.cp_ix[p, PI_KIND] == int(ContactKind.JOURNAL_STATION)
-    ]
+    pts, _, ek, h = station_sections(result, joint, keep)
+    info = result.compiled.clearances[[ci.name for ci in result.compiled.clearances].index(joint)]
     if surface is None:
-        length = length if length is not None else comp.mechanism.joints[joint].clearance.length
+        cl = result.compiled.mechanism.joints[joint].clearance
+        length = length if length is not None else cl.length
         if length is None:
             raise ValueError(
                 f"{joint}: bearing wear needs the bearing's contact length (its clearance has "
@@ -215,27 +263,12 @@ def bearing_history(
     if m.stations != len(pts):
         raise ValueError(f"the map has {m.stations} stations, {joint} {len(pts)}")
     keep = np.arange(result.t.size) if keep is None else np.asarray(keep)
-    t = np.asarray(result.t)[keep]
-    w = trapezoid_weights(t)
-
-    def frame(body, T):  # (k, 3, 3) marker triad in the world
-        if body == GROUND:
-            return np.broadcast_to(T, (t.size, 3, 3))
-        return result.rotation(body)[keep] @ T
-
-    Rs = frame(info.socket_body, model.clr_T[k, 0])
-    hb = frame(info.ball_body, model.clr_T[k, 1])[:, :, 2]
-    h = np.einsum("kji,kj->ki", Rs, hb)  # journal axis in the bearing marker frame
-    e = np.asarray(result.eccentricity(joint), dtype=float)[keep]
+    w = trapezoid_weights(np.asarray(result.t)[keep])
     work = 0.0
-    for j, p in enumerate(pts):
-        name = result.contact_point_names[p]
-        sigma = float(model.cp_geo[p, PG_K0])
-        lam = (sigma - e[:, 2]) / h[:, 2]
-        ek = e[:, :2] + lam[:, None] * h[:, :2]
+    for j, name in enumerate(pts):
         f = np.abs(np.asarray(result.channel("point_contact_force", name), dtype=float)[keep])
         v = np.linalg.norm(np.asarray(result.channel("point_slip_velocity", name))[keep], axis=1)
-        ds = v * w
-        ring_archard(m, j, ek, f, ds, k_w, info.c, worn=worn)
+        ds = np.where(np.isfinite(ek[j, :, 0]), v * w, 0.0)
+        ring_archard(m, j, np.nan_to_num(ek[j]), f, ds, k_w, info.c, worn=worn, axis=h)
         work += float(np.sum(f * ds))
     return m, work
