@@ -31,6 +31,7 @@ LAYERS = [
     {"integrate"},  # integrators, simulate()
     {"parallel"},  # the parallel-mechanism builder (legs from joint strings, mobility)
     {"<root>"},  # clearance/__init__.py: the public API (re-exports of the core)
+    {"warmup"},  # compiles the kernels ahead of use (python -m clearance.warmup)
     {"io"},  # files: NetCDF, CSV, MAT
     {"nonlinear"},  # steady states, Poincare maps, spectra, Lyapunov exponents (on runs, files)
     {"mechanisms"},  # ready-made mechanisms

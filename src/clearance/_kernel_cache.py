@@ -45,6 +45,7 @@ _NO_KERNELS = (
     "sweep",
     "view",
     "wear",
+    "warmup.py",
 )
 
 

@@ -479,7 +479,9 @@ def refine_peaks(model, wk, cs, opts, t, y, K, P, h, xend, PK, stats, ys, yds, c
     for k in range(model.nclr):
         _force_peak(model, wk, cs, opts, k, t, y, K, P, h, xend, PK, stats, ys, yds)
         p0 = model.clr_ix[k, CI_P0]
-        best, ib, pb = 0.0, 0, -1
+        # (np.int64: a literal -1 made numba compile _gap_on_step and every gap kernel a
+        # second time for the argument type Literal[int](-1): 30 s of each cold compile)
+        best, ib, pb = 0.0, 0, np.int64(-1)
         for p in range(p0, p0 + model.clr_ix[k, CI_NP]):
             for i in range(n + 1):  # the quartic's points up to xend
                 if i / n > xend:

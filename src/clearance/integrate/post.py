@@ -270,8 +270,8 @@ def post_process(model, wk, cs, alpha, beta, solver, ts, Y, CS, PC, n, blk, out,
     W = np.empty((LMAX + 1, D + 1))  # weights of the window's rows
     L = 2 * D
     fresh = -1
-    s = 0
-    e = -1  # last sample of the segment of equal contact state holding s
+    s = np.int64(0)  # (not a literal 0: numba would compile `evaluate` for Literal[int](0))
+    e = np.int64(-1)  # last sample of the segment of equal contact state holding s
     while s < n:
         if s > e:  # a new segment: its windows start small (no spacing carried over)
             e = s
