@@ -224,7 +224,11 @@ def _erk_high(model, wk, cs, opts, out, A, C, B, E3, E5, P, order, t0, y0):
             return _STEP_UNDERFLOW, iout, t, nlog
         if t + 1.01 * h >= t_end:
             h = t_end - t
-        bad = _stages(model, wk, cs, alpha, beta, solver, A, C, K, 1, ns, t, y, h, ytmp, stats) != 0
+        first = np.int64(1)  # (not the literal 1: numba would compile _stages twice)
+        bad = (
+            _stages(model, wk, cs, alpha, beta, solver, A, C, K, first, ns, t, y, h, ytmp, stats)
+            != 0
+        )
         nsteps += 1
         en = 0.0
         if not bad:

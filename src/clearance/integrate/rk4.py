@@ -103,7 +103,9 @@ def _rk4(model, wk, cs, opts, out, t0, y0):
                 y[i] += hs / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
             t += hs
             stats[ST_NACC] += 1
-            st, _, nlog = after_step(model, wk, cs, opts, out, t, y, k4[:0], nlog, False)
+            # (np.bool_: a literal False made numba compile after_step and update_contacts a
+            # second time, for Literal[bool])
+            st, _, nlog = after_step(model, wk, cs, opts, out, t, y, k4[:0], nlog, np.bool_(False))
             if st != _SUCCESS:
                 return st, iout, t, nlog
             j += 1
