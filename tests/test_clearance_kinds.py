@@ -290,20 +290,31 @@ def test_planar_journal_is_the_classic_planar_model():
     assert np.allclose(po[0, PO_N : PO_N + 3], As @ TS @ e / np.linalg.norm(e), atol=1e-12)
 
 
-def brute_force_station_penetration(sigma, o, h, RB, RJ):
+def brute_force_station_penetration(sigma, o, h, RB, RJ, profile=None, normal=False):
     """Exact penetration of the bearing cross-section circle at axial coordinate sigma
     (centre (0, 0, sigma), radius RB, in the plane z = sigma) into a journal cylinder of
     radius RJ about the axis through o with unit direction h: RJ minus the smallest distance
     of a rim point from that axis, by dense sampling and golden-section refinement (written
-    without the package's Newton iteration)."""
+    without the package's Newton iteration). profile(phi): a worn rim, radius RB +
+    profile(phi) (vectorised); normal: also return the unit direction from the axis to the
+    nearest rim point."""
     o, h = np.asarray(o, float), np.asarray(h, float) / np.linalg.norm(h)
 
+    def radius(phi):
+        return RB + (profile(phi) if profile is not None else 0.0 * phi)
+
+    def vec(phi):
+        r = radius(phi)
+        X = np.array([r * math.cos(phi), r * math.sin(phi), sigma]) - o
+        return X - (X @ h) * h
+
     def dist(phi):
-        X = np.array([RB * math.cos(phi), RB * math.sin(phi), sigma]) - o
-        return np.linalg.norm(X - (X @ h) * h)
+        return float(np.linalg.norm(vec(phi)))
 
     phis = np.linspace(0, 2 * np.pi, 20001)
-    k = int(np.argmin([dist(p) for p in phis]))
+    r = radius(phis)
+    X = np.column_stack([r * np.cos(phis), r * np.sin(phis), np.full(phis.size, sigma)]) - o
+    k = int(np.argmin(np.linalg.norm(X - np.outer(X @ h, h), axis=1)))
     a, b = phis[k] - 4e-4, phis[k] + 4e-4
     g = (math.sqrt(5) - 1) / 2
     for _ in range(80):
@@ -312,7 +323,9 @@ def brute_force_station_penetration(sigma, o, h, RB, RJ):
             b = x2
         else:
             a = x1
-    return RJ - dist(0.5 * (a + b))
+    v = vec(0.5 * (a + b))
+    pen = RJ - float(np.linalg.norm(v))
+    return (pen, v / np.linalg.norm(v)) if normal else pen
 
 
 def _station_model(N):

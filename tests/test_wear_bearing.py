@@ -23,6 +23,7 @@ from test_clearance_kinds import (
     TS,
     C,
     along_motion,
+    brute_force_station_penetration,
     energy,
     evaluate,
     gaps,
@@ -170,32 +171,8 @@ DEPTH, WIDTH = 20e-6, 0.4  # the pocket: c + h + h'' > 0, so h is its own suppor
 def brute_force_worn_penetration(sigma, o, h, RB, RJ, profile):
     """RJ minus the smallest distance from the journal axis (through o along h) of the worn
     cross-section X(phi) = ((RB + profile(phi)) cos phi, (RB + profile(phi)) sin phi, sigma),
-    by dense sampling and golden-section refinement; and the direction from the axis to that
-    point (normal to h)."""
-    h = np.asarray(h, float) / np.linalg.norm(h)
-
-    def vec(phi):
-        r = RB + profile(phi)
-        X = np.array([r * math.cos(phi), r * math.sin(phi), sigma]) - o
-        return X - (X @ h) * h
-
-    def dist(phi):
-        return float(np.linalg.norm(vec(phi)))
-
-    phis = np.linspace(0, 2 * np.pi, 20001)
-    r = RB + profile(phis)
-    X = np.column_stack([r * np.cos(phis), r * np.sin(phis), np.full(phis.size, sigma)]) - o
-    k = int(np.argmin(np.linalg.norm(X - np.outer(X @ h, h), axis=1)))
-    a, b = phis[k] - 4e-4, phis[k] + 4e-4
-    g = (math.sqrt(5) - 1) / 2
-    for _ in range(80):
-        x1, x2 = b - g * (b - a), a + g * (b - a)
-        if dist(x1) < dist(x2):
-            b = x2
-        else:
-            a = x1
-    v = vec(0.5 * (a + b))
-    return RJ - float(np.linalg.norm(v)), v / np.linalg.norm(v)
+    and the direction from the axis to that point (test_clearance_kinds' brute force)."""
+    return brute_force_station_penetration(sigma, o, h, RB, RJ, profile, normal=True)
 
 
 @pytest.mark.parametrize("n", [128, 512])

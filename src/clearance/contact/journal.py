@@ -131,6 +131,25 @@ def _station(model, p, k, bA, br, arm_s0, arm_b0):
     return RJ - D, n, arm_s, arm_b
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _rim_rate(model, k, br, brd, bw, arm_s, arm_b0, us, ub, hb):
+    """(v, v_dot|phi) of a station's rim point X* = P_s + arm_s (world arm from s's mass
+    centre): v = P_b (X* - P_b), and its rate at a fixed angle phi, with X* a point of s,
+    P_b a point of b and h_b turning with b."""
+    s = model.clr_ix[k, CI_BS]
+    b = model.clr_ix[k, CI_BB]
+    ws = (bw[s, 0], bw[s, 1], bw[s, 2])
+    wb = (bw[b, 0], bw[b, 1], bw[b, 2])
+    w = sub(
+        add((br[s, 0], br[s, 1], br[s, 2]), arm_s), add((br[b, 0], br[b, 1], br[b, 2]), arm_b0)
+    )  # X* - P_b
+    vx = add(add((brd[s, 0], brd[s, 1], brd[s, 2]), cross(ws, arm_s)), us)
+    vp = add(add((brd[b, 0], brd[b, 1], brd[b, 2]), cross(wb, arm_b0)), ub)
+    hbd = cross(wb, hb)
+    vd = sub(perp(sub(vx, vp), hb), add(scale(dot(w, hb), hbd), scale(dot(w, hbd), hb)))
+    return perp(w, hb), vd
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def _station_normal_rate(model, p, k, bA, br, brd, bw, arm_s0, arm_b0, us, ub, n, arm_s):
     """n_dot of station p (n = v/|v|, v = P_b (X* - P_b), P_b = I - h_b h_b^T), given the
@@ -144,19 +163,10 @@ def _station_normal_rate(model, p, k, bA, br, brd, bw, arm_s0, arm_b0, us, ub, n
     hs = axis(bA[s], model.clr_T[k, 0], 2)
     hb = axis(bA[b], model.clr_T[k, 1], 2)
     ws = (bw[s, 0], bw[s, 1], bw[s, 2])
-    wb = (bw[b, 0], bw[b, 1], bw[b, 2])
     ys = add(arm_s0, scale(model.cp_geo[p, _SIG], hs))  # arm of the station centre Y
     u = scale(1.0 / RB, sub(arm_s, ys))  # X* = Y + R_B u
     t = cross(hs, u)
-    w = sub(
-        add((br[s, 0], br[s, 1], br[s, 2]), arm_s), add((br[b, 0], br[b, 1], br[b, 2]), arm_b0)
-    )  # X* - P_b
-    v = perp(w, hb)
-    # rates at fixed phi: X* as a point of s, P_b as a point of b, h_b turning with b
-    vx = add(add((brd[s, 0], brd[s, 1], brd[s, 2]), cross(ws, arm_s)), us)
-    vp = add(add((brd[b, 0], brd[b, 1], brd[b, 2]), cross(wb, arm_b0)), ub)
-    hbd = cross(wb, hb)
-    vd = sub(perp(sub(vx, vp), hb), add(scale(dot(w, hb), hbd), scale(dot(w, hbd), hb)))
+    v, vd = _rim_rate(model, k, br, brd, bw, arm_s, arm_b0, us, ub, hb)
     tp = perp(t, hb)
     curv = RB * dot(tp, tp) - dot(v, u)
     if curv > 0.0:
@@ -268,18 +278,10 @@ def _worn_station_contact(model, p, k, bA, br, brd, bw, arm_s0, arm_b0, us, ub):
     hs = axis(bA[s], model.clr_T[k, 0], 2)
     hb = axis(bA[b], model.clr_T[k, 1], 2)
     ws = (bw[s, 0], bw[s, 1], bw[s, 2])
-    wb = (bw[b, 0], bw[b, 1], bw[b, 2])
     t = cross(hs, u)
     xp = add(scale(H1, u), scale(rho, t))
     xpp = add(scale(H2 - rho, u), scale(2.0 * H1, t))
-    w = sub(
-        add((br[s, 0], br[s, 1], br[s, 2]), arm_s), add((br[b, 0], br[b, 1], br[b, 2]), arm_b0)
-    )  # X* - P_b
-    v = perp(w, hb)
-    vx = add(add((brd[s, 0], brd[s, 1], brd[s, 2]), cross(ws, arm_s)), us)
-    vp = add(add((brd[b, 0], brd[b, 1], brd[b, 2]), cross(wb, arm_b0)), ub)
-    hbd = cross(wb, hb)
-    vd = sub(perp(sub(vx, vp), hb), add(scale(dot(w, hb), hbd), scale(dot(w, hbd), hb)))
+    v, vd = _rim_rate(model, k, br, brd, bw, arm_s, arm_b0, us, ub, hb)
     xp_p = perp(xp, hb)
     f2 = dot(xp_p, xp_p) + dot(v, xpp)
     if f2 > 0.0:

@@ -14,7 +14,8 @@
     grid = 64                 # cells per cube face of the socket's depth map (a bearing:
                               # 4 grid cells around each station, the same resolution)
     smoothing = 2.0           # the worn socket's smoothing radius [cells] (sockets only)
-    length = 0.02             # [m] a bearing's contact length (default: the clearance's)
+    length = 0.02             # [m] a bearing's contact length, only where its clearance
+                              # has none (a planar joint)
 
 The wear coefficient has no default: it depends on the materials, the lubrication and the
 regime, and published values span orders of magnitude (docs/notes/wear-literature.md).
@@ -56,7 +57,7 @@ JOINT_WEAR_FIELDS = {
         "positive", 2.0, doc="smoothing radius of a worn socket's gap [cells]", minimum=1.0
     ),
     "length": Field(
-        "positive", None, "m", "a bearing's contact length (default: the clearance's length)"
+        "positive", None, "m", "a bearing's contact length, where its clearance has none"
     ),
 }
 

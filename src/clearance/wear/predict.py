@@ -4,13 +4,15 @@
     w = predict_wear("scenario.toml", out_dir="wear-run")   # the scenario's [wear] table
     w.history          # xarray Dataset: volume, max depth, forces ... against cycles
 
-Each iteration runs the dynamics once with the sockets worn as they are (`Mechanism.
-with_wear`: the worn gap and its forces, contact/spherical.py), takes the wear of one
-cycle from that run (Archard with the elastic foundation's pressure over the ball's
-overlap with the worn socket, `clearance.wear.history.socket_wear`, over the samples after
-`warmup`, scaled to one `cycle_time`), multiplies it by the update factor N (cycles per
-iteration) and adds it to the depth maps. N is fixed (`update_factor`) or chosen so that
-no socket deepens by more than `max_step` x its clearance (and, if set,
+Each iteration runs the dynamics once with the sockets and bearings worn as they are
+(`Mechanism.with_wear`: the worn gap and its forces, contact/spherical.py and
+contact/journal.py), takes the wear of one cycle from that run (Archard with the elastic
+foundation's pressure over the ball's or journal's overlap with the worn surface,
+`clearance.wear.history.socket_wear` and `clearance.wear.bearing.bearing_history`, over
+the samples after `warmup`, scaled to one `cycle_time`), multiplies it by the update
+factor N (cycles per iteration) and adds it to the depth maps. N is fixed
+(`update_factor`) or chosen so that no socket or bearing deepens by more than `max_step`
+x its clearance (and, if set,
 `max_step_penetration` x the run's mean penetration) in one iteration (the usual scheme:
 docs/notes/wear-literature.md section 5); the loop ends when `cycles` are reached, and one
 last run measures the worn mechanism. The explicit update is Euler's method in the cycle
@@ -49,7 +51,7 @@ __all__ = [
 
 #: per-iteration quantities of the history, per joint (name: long name, units)
 JOINT_VARS = {
-    "volume": ("worn volume of the socket", "m3"),
+    "volume": ("worn volume of the socket or bearing", "m3"),
     "max_depth": ("maximum wear depth", "m"),
     "effective_clearance": ("clearance plus the maximum wear depth", "m"),
     "wear_work": ("integral of F_N |v_slip| dt over one cycle", "N m"),
@@ -88,7 +90,8 @@ class WearLoop:
         return float(sum(r["factor"] for r in self.rows))
 
     def worn(self, smoothing: Mapping[str, float]) -> dict:
-        """{joint: SocketWear} of the current maps (unworn joints left out)."""
+        """{joint: SocketWear or BearingWear} of the current maps, as the dynamics sees them
+        (unworn joints left out)."""
         return {
             j: m.wear_model(self.clearances[j], smoothing[j])
             for j, m in self.maps.items()
@@ -128,7 +131,7 @@ class WearLoop:
                     np.array([d[j] for d in self.depths], dtype=np.float32),
                 )
                 ds[f"depth_history_{j}"].attrs.update(
-                    long_name=f"wear depth of the socket of {j} in each iteration's run",
+                    long_name=f"wear depth of {j} in each iteration's run",
                     units="m",
                 )
             ds[f"depth_{j}"] = (_dims(m, j), m.depth)
@@ -184,8 +187,9 @@ def run_wear_loop(
     save: Callable[[WearLoop], None] | None = None,
     max_iterations: int | None = None,
 ) -> WearLoop:
-    """Iterate: run `cycle(worn, maps)` with the current worn sockets (worn: {joint:
-    SocketWear} for the dynamics, maps: {joint: SphereWearMap}, the depth maps they come
+    """Iterate: run `cycle(worn, maps)` with the current worn joints (worn: {joint:
+    SocketWear or BearingWear} for the dynamics, maps: {joint: SphereWearMap or
+    BearingWearMap}, the depth maps they come
     from, not to be changed), extrapolate its wear by the update factor, save.
     `max_iterations`: stop after that many runs (resumable)."""
     smoothing = {j: s.smoothing for j, s in settings.joints.items()}
@@ -219,7 +223,7 @@ def run_wear_loop(
                     factor = min(1.0, remaining)
                     if log is not None:
                         log(
-                            f"[wear] one cycle deepens a socket by {rate:.3g} x the step "
+                            f"[wear] one cycle deepens a joint by {rate:.3g} x the step "
                             "bound (max_step, max_step_penetration): the iteration stands "
                             "for one cycle"
                         )
@@ -258,7 +262,7 @@ def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log):
         )
         r = o.clearance
         if not r.success:
-            raise WearRunError(f"the run with the worn sockets stopped: {r.message}", o)
+            raise WearRunError(f"the run with the worn joints stopped: {r.message}", o)
         ds = result_to_dataset(r, outputs=("clearance",))
         t = np.asarray(ds["time"].values)
         keep = np.flatnonzero(t >= t[0] + settings.warmup)
