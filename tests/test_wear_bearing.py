@@ -358,6 +358,8 @@ def test_ring_archard_spreads_k_w_f_s_over_the_overlap():
     worn_cells = np.flatnonzero(m.depth[1])
     assert worn_cells.size >= MIN_RING_CELLS and worn_cells.size % 2 == 0
     assert np.allclose(m.depth[1][40 - 5 : 41 + 6], m.depth[1][40 - 5 : 41 + 6][::-1])
+    with pytest.raises(ValueError, match="same grid"):
+        ring_archard(m, 0, e, [1.0], [1.0], 1e-12, C, worn=BearingWearMap(RJ + C, LB, 2, 64))
 
 
 @pytest.fixture(scope="module")

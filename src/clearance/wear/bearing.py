@@ -169,6 +169,11 @@ def ring_archard(
     during the run; default: `surface` itself) and the journal axes `axis` (k, 3) (None:
     aligned; `BearingWearMap.overlap`)."""
     worn = surface if worn is None else worn
+    if worn.depth.shape != surface.depth.shape:
+        raise ValueError(
+            f"worn has {worn.stations} stations x {worn.n} cells, the map "
+            f"{surface.stations} x {surface.n}: expected the same grid"
+        )
     force = np.asarray(force, dtype=float)
     slip = np.asarray(slip, dtype=float)
     use = np.flatnonzero((force > 0) & (slip > 0))
