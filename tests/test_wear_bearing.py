@@ -494,12 +494,13 @@ length = 0.02
 """
 
 
-def test_slider_crank_bearing_wear_end_to_end_and_resumed(tmp_path):
+def test_slider_crank_bearing_wear_end_to_end_and_resumed(tmp_path, monkeypatch):
     """The field's revolute-clearance benchmark (Flores' slider-crank, library scenario)
     through `clearance wear`: one iteration by the CLI, then resumed to the end; equal to an
     uninterrupted prediction; the bearing wears where the rod pushes and pulls (along the
     rod, the bearing marker's f axis, as in Flores et al.'s revolute-joint wear studies),
-    and the impacts grow with the wear; the figures are written."""
+    and the impacts grow with the wear; the figures are written, and nothing lands in the
+    working folder."""
     import subprocess
     import sys
 
@@ -510,7 +511,12 @@ def test_slider_crank_bearing_wear_end_to_end_and_resumed(tmp_path):
     path.write_text(library_path("slider_crank").read_text() + SLIDER_CRANK_WEAR)
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "clearance.cli.main", "wear", str(path), "-o", str(out)]
-    r = subprocess.run([*cmd, "--iterations", "1", "--no-figures"], capture_output=True, text=True)
+    cwd = tmp_path / "cwd"  # the runs write nothing here (no [output] folder of their own)
+    cwd.mkdir()
+    monkeypatch.chdir(cwd)
+    r = subprocess.run(
+        [*cmd, "--iterations", "1", "--no-figures"], capture_output=True, text=True, cwd=cwd
+    )
     assert r.returncode == 0, r.stderr
     w = predict_wear(path, out_dir=out, log=None)
     ref = predict_wear(path, out_dir=tmp_path / "ref", log=None, figures=False)
@@ -527,6 +533,7 @@ def test_slider_crank_bearing_wear_end_to_end_and_resumed(tmp_path):
     assert abs(math.cos(deepest)) > math.cos(math.radians(30))
     for f in ("wear_map_wrist", "wear_surface_wrist", "wear_history"):
         assert (out / f"{f}.png").stat().st_size > 10_000
+    assert not any(cwd.iterdir())  # (the wear runs once created the scenario's results/)
 
 
 def test_a_bearing_without_a_length_is_refused_naming_the_field(tmp_path):

@@ -247,8 +247,10 @@ def run_wear_loop(
 # ------------------------------------------------------------------ scenarios
 
 
-def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log):
-    """The `cycle` callable of a scenario: one run of its clearance mechanism, worn."""
+def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log, out_dir=None):
+    """The `cycle` callable of a scenario: one run of its clearance mechanism, worn (its
+    files are not written; out_dir: the folder the run checks instead of the scenario's
+    [output] folder, which it would create)."""
     import dataclasses
 
     from clearance.io.dataset import result_to_dataset
@@ -258,7 +260,13 @@ def _cycle_of_scenario(s, settings: WearSettings, e_star: dict, run_log):
 
     def cycle(worn: dict, maps: dict) -> CycleWear:
         o = run_scenario(
-            s, figures=False, log=run_log, reuse_ideal=True, defer_write=True, wear=worn
+            s,
+            out_dir=out_dir,
+            figures=False,
+            log=run_log,
+            reuse_ideal=True,
+            defer_write=True,
+            wear=worn,
         )
         r = o.clearance
         if not r.success:
@@ -427,7 +435,8 @@ def predict_wear(
         with atomic_path(path) as tmp:
             ds.to_netcdf(tmp, engine="netcdf4")
 
-    cycle = _cycle_of_scenario(s, settings, {j: _e_star(joints[j]) for j in settings.joints}, None)
+    e_star = {j: _e_star(joints[j]) for j in settings.joints}
+    cycle = _cycle_of_scenario(s, settings, e_star, None, out_dir=out)
     run_wear_loop(cycle, settings, state, log=log, save=save, max_iterations=max_iterations)
     files = [path]
     hist = state.history()
