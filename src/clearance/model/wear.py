@@ -27,7 +27,12 @@ import numpy as np
 
 from clearance.model.errors import ModelError
 
-__all__ = ["BearingWear", "SocketWear", "wendland_c2"]
+__all__ = ["BearingWear", "SocketWear", "ring_angles", "wendland_c2"]
+
+
+def ring_angles(n: int) -> np.ndarray:
+    """Centres theta_i = 2 pi (i + 1/2) / n [rad] of a bearing ring's n equal cells."""
+    return 2.0 * np.pi * (np.arange(n) + 0.5) / n
 
 
 def wendland_c2(r: np.ndarray) -> np.ndarray:
@@ -137,8 +142,7 @@ class BearingWear:
     @property
     def angles(self) -> np.ndarray:
         """theta_i [rad] of the n cells of each station."""
-        n = self.depths.shape[1]
-        return 2.0 * np.pi * (np.arange(n) + 0.5) / n
+        return ring_angles(self.depths.shape[1])
 
     def ring_rows(self, station: int) -> np.ndarray:
         """The kernel's rows (n, 5) of one station, the depth in column 0 (the rest 0);

@@ -27,6 +27,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from clearance.model.clearance import RevoluteClearance
 from clearance.scenario.errors import Problems
 from clearance.scenario.fields import Field, parse_table, table_at
 
@@ -172,7 +173,7 @@ def parse_wear(t: dict, wearable: Mapping, problems: Problems) -> WearSettings |
             if v["grid"] > 512:
                 problems.add(f"{path}.grid", v["grid"], "expected an integer from 1 to 512")
                 continue
-            bearing = hasattr(wearable[name], "journal_radius")
+            bearing = isinstance(wearable[name], RevoluteClearance)
             length = v.get("length")
             own = getattr(wearable[name], "length", None) if bearing else None
             if not bearing and "length" in b:

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from clearance.model.wear import BearingWear
+from clearance.model.wear import BearingWear, ring_angles
 from clearance.wear.surface import overlap_floor
 
 __all__ = [
@@ -81,7 +81,7 @@ class BearingWearMap:
 
     @property
     def angles(self) -> np.ndarray:
-        return 2.0 * np.pi * (np.arange(self.n) + 0.5) / self.n
+        return ring_angles(self.n)
 
     @property
     def directions(self) -> np.ndarray:
@@ -94,9 +94,9 @@ class BearingWearMap:
         return self.radius * 2.0 * np.pi / self.n * self.length / self.stations
 
     def volume(self) -> float:
-        """Worn volume [m^3] (the annular shell removed)."""
-        cell = (2.0 * np.pi / self.n) * (self.length / self.stations)
-        return float(np.sum(cell * (self.radius * self.depth + 0.5 * self.depth**2)))
+        """Worn volume [m^3] (the annular shell removed: per cell its area times
+        h (1 + h / 2R))."""
+        return self.cell_area * float(np.sum(self.depth * (1.0 + 0.5 * self.depth / self.radius)))
 
     def max_depth(self) -> float:
         return float(self.depth.max())
@@ -187,6 +187,22 @@ def ring_archard(
         surface.depth[station] += scale @ p
 
 
+def _bearing_joint(result, joint: str):
+    """(index, ClearanceInfo) of revolute or cylindrical clearance joint `joint` of a run
+    (ValueError for another name or kind)."""
+    infos = result.compiled.clearances
+    names = [ci.name for ci in infos]
+    if joint not in names:
+        raise ValueError(f"no clearance joint {joint!r}; the run has {', '.join(names)}")
+    k = names.index(joint)
+    if infos[k].kind not in ("revolute", "cylindrical"):
+        raise ValueError(
+            f"{joint} is a {infos[k].kind} clearance joint; bearing wear is for revolute and "
+            "cylindrical ones"
+        )
+    return k, infos[k]
+
+
 def station_sections(result, joint: str, keep: np.ndarray | None = None):
     """The journal in each station's section of revolute or cylindrical clearance joint
     `joint` over a Result's samples `keep` (default: all): (contact point names, their
@@ -198,16 +214,7 @@ def station_sections(result, joint: str, keep: np.ndarray | None = None):
     from clearance.model.bodies import GROUND
 
     comp = result.compiled
-    names = [ci.name for ci in comp.clearances]
-    if joint not in names:
-        raise ValueError(f"no clearance joint {joint!r}; the run has {', '.join(names)}")
-    k = names.index(joint)
-    info = comp.clearances[k]
-    if info.kind not in ("revolute", "cylindrical"):
-        raise ValueError(
-            f"{joint} is a {info.kind} clearance joint; bearing wear is for revolute and "
-            "cylindrical ones"
-        )
+    k, info = _bearing_joint(result, joint)
     model = comp.model
     pts = [
         p
@@ -254,7 +261,7 @@ def bearing_history(
     from clearance.wear.history import trapezoid_weights
 
     pts, _, ek, h = station_sections(result, joint, keep)
-    info = result.compiled.clearances[[ci.name for ci in result.compiled.clearances].index(joint)]
+    _, info = _bearing_joint(result, joint)
     if surface is None:
         cl = result.compiled.mechanism.joints[joint].clearance
         length = length if length is not None else cl.length

@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from clearance.compile.calibration import effective_modulus
+from clearance.model.clearance import RevoluteClearance
 from clearance.scenario.wear import JointWear, WearSettings
 from clearance.wear.bearing import BearingWearMap, bearing_history
 from clearance.wear.history import socket_wear
@@ -331,7 +332,7 @@ class WearRunError(RuntimeError):
 
 
 def _e_star(cl) -> float:
-    if hasattr(cl, "journal_radius"):  # RevoluteClearance
+    if isinstance(cl, RevoluteClearance):
         a, b = cl.journal_material, cl.bearing_material
     else:
         a, b = cl.ball_material, cl.socket_material
@@ -377,7 +378,7 @@ def _new_map(cl, js: JointWear):
     """The unworn depth map of a joint's wearing part: the socket of a spherical clearance
     joint (grid cells per cube face), the bearing of a revolute or cylindrical one (4 grid
     cells around each station: the socket's angular resolution)."""
-    if hasattr(cl, "journal_radius"):  # RevoluteClearance
+    if isinstance(cl, RevoluteClearance):
         stations = 1 if cl.model == "planar" else cl.stations
         length = js.length if js.length is not None else cl.length
         return BearingWearMap(cl.bearing_radius, float(length), stations, 4 * js.grid)
